@@ -1,0 +1,253 @@
+//! Benchmark scenes for the narrow phase: near-touching random pairs of the paper's shape
+//! classes (paper IV), shared by the criterion benches and `supergrain bench contact`.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::contact::contact;
+use crate::geometry::Vec2;
+use crate::shape::{Pose, Superellipse};
+use crate::subdivision::Precision;
+
+/// The shape classes of the paper's scenes (Figs. 10-13).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeClass {
+    /// Radius in [0.3, 0.7].
+    Circles,
+    /// Semi-axes in [0.1, 0.8] and [0.1, 0.9].
+    Ellipses,
+    /// Exponents 4, semi-axes in [0.3, 0.4] and [0.3, 0.7].
+    Squircles,
+    /// Exponents each in [0.5, 4], semi-axes as squircles.
+    Mixed,
+}
+
+impl ShapeClass {
+    pub const ALL: [ShapeClass; 4] = [
+        ShapeClass::Circles,
+        ShapeClass::Ellipses,
+        ShapeClass::Squircles,
+        ShapeClass::Mixed,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeClass::Circles => "circles",
+            ShapeClass::Ellipses => "ellipses",
+            ShapeClass::Squircles => "squircles",
+            ShapeClass::Mixed => "mixed",
+        }
+    }
+
+    /// A random shape of this class.
+    pub fn sample(self, rng: &mut impl Rng) -> Superellipse {
+        let (axes, exps) = match self {
+            ShapeClass::Circles => {
+                let r = rng.random_range(0.3..=0.7);
+                ([r, r], [2.0, 2.0])
+            }
+            ShapeClass::Ellipses => (
+                [rng.random_range(0.1..=0.8), rng.random_range(0.1..=0.9)],
+                [2.0, 2.0],
+            ),
+            ShapeClass::Squircles => (
+                [rng.random_range(0.3..=0.4), rng.random_range(0.3..=0.7)],
+                [4.0, 4.0],
+            ),
+            ShapeClass::Mixed => (
+                [rng.random_range(0.3..=0.4), rng.random_range(0.3..=0.7)],
+                [rng.random_range(0.5..=4.0), rng.random_range(0.5..=4.0)],
+            ),
+        };
+        Superellipse::new(axes, exps).expect("class ranges are valid")
+    }
+}
+
+/// Two placed shapes.
+#[derive(Clone, Copy, Debug)]
+pub struct Pair {
+    pub a: Superellipse,
+    pub pose_a: Pose,
+    pub b: Superellipse,
+    pub pose_b: Pose,
+}
+
+/// `n` pairs of the class, B's centre along a random direction from A's at the touching
+/// distance times `1 +- spread` (uniform), random angles. Deterministic in `seed`.
+///
+/// The touching distance is found by bisection on an overlap test of densely sampled
+/// boundaries, not by the quadtree, so the benchmark does not tune itself to the code it times.
+pub fn near_touching_pairs(class: ShapeClass, n: usize, spread: f64, seed: u64) -> Vec<Pair> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    (0..n)
+        .map(|_| {
+            let a = class.sample(&mut rng);
+            let b = class.sample(&mut rng);
+            let pose_a = Pose::new(Vec2::ZERO, rng.random_range(0.0..std::f64::consts::TAU))
+                .expect("finite");
+            let angle_b = rng.random_range(0.0..std::f64::consts::TAU);
+            let dir_angle: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let dir = Vec2::new(dir_angle.cos(), dir_angle.sin());
+            let touching = touching_distance(&a, &pose_a, &b, angle_b, dir);
+            let t = touching * (1.0 + rng.random_range(-spread..=spread));
+            let pose_b = Pose::new(dir * t, angle_b).expect("finite");
+            Pair {
+                a,
+                pose_a,
+                b,
+                pose_b,
+            }
+        })
+        .collect()
+}
+
+fn sampled_overlap(a: &Superellipse, pa: &Pose, b: &Superellipse, pb: &Pose) -> bool {
+    const N: usize = 512;
+    let inside = |s: &Superellipse, ps: &Pose, o: &Superellipse, po: &Pose| {
+        (0..N).any(|i| {
+            let t = i as f64 * std::f64::consts::TAU / N as f64;
+            o.value(po, ps.to_world(s.boundary_point(t))) < 0.0
+        })
+    };
+    inside(a, pa, b, pb) || inside(b, pb, a, pa)
+}
+
+/// The largest centre distance along `dir` at which the sampled boundaries still overlap.
+fn touching_distance(
+    a: &Superellipse,
+    pa: &Pose,
+    b: &Superellipse,
+    angle_b: f64,
+    dir: Vec2,
+) -> f64 {
+    let (mut lo, mut hi) = (0.0, a.bounding_radius() + b.bounding_radius());
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        let pb = Pose::new(dir * mid, angle_b).expect("finite");
+        if sampled_overlap(a, pa, b, &pb) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The floor the paper compared against: disk-disk contact from the centre distance, giving the
+/// normal and the depth (paper IV-A).
+#[inline]
+pub fn disk_disk(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<(Vec2, f64)> {
+    let d = cb - ca;
+    let dist2 = d.dot(d);
+    let reach = ra + rb;
+    if dist2 >= reach * reach {
+        return None;
+    }
+    let dist = dist2.sqrt();
+    let normal = if dist > 0.0 {
+        d * (1.0 / dist)
+    } else {
+        Vec2::new(1.0, 0.0)
+    };
+    Some((normal, reach - dist))
+}
+
+/// One measured case.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseResult {
+    pub name: String,
+    /// Median over the repetitions of the time per pair.
+    pub ns_per_pair: f64,
+    pub pairs: usize,
+    /// Fraction of pairs found overlapping.
+    pub overlap_fraction: f64,
+    /// Mean quadtree cells per pair.
+    pub cells_per_pair: f64,
+}
+
+/// Median over `reps` timed passes of `f` over all items, in ns per item; one untimed pass first.
+pub fn median_ns_per_item<T>(items: &[T], reps: usize, mut f: impl FnMut(&T)) -> f64 {
+    for it in items {
+        f(it);
+    }
+    let mut times: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let start = Instant::now();
+            for it in items {
+                f(it);
+            }
+            start.elapsed().as_nanos() as f64 / items.len().max(1) as f64
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[times.len() / 2]
+}
+
+/// The narrow-phase benchmark: every shape class at the given precision, then the disk-disk
+/// floor on the circle pairs, all in one run.
+pub fn contact_cases(
+    pairs: usize,
+    reps: usize,
+    precision: &Precision,
+    seed: u64,
+) -> Vec<CaseResult> {
+    let mut out = Vec::new();
+    let mut circle_pairs = Vec::new();
+    for class in ShapeClass::ALL {
+        let set = near_touching_pairs(class, pairs, 0.02, seed);
+        let (mut overlaps, mut cells) = (0usize, 0u64);
+        for p in &set {
+            let c = contact(&p.a, &p.pose_a, &p.b, &p.pose_b, precision);
+            overlaps += usize::from(c.overlap());
+            cells += u64::from(c.cells);
+        }
+        let ns = median_ns_per_item(&set, reps, |p| {
+            black_box(contact(
+                black_box(&p.a),
+                black_box(&p.pose_a),
+                black_box(&p.b),
+                black_box(&p.pose_b),
+                precision,
+            ));
+        });
+        out.push(CaseResult {
+            name: format!("{} (quadtree depth {})", class.name(), precision.depth()),
+            ns_per_pair: ns,
+            pairs: set.len(),
+            overlap_fraction: overlaps as f64 / set.len().max(1) as f64,
+            cells_per_pair: cells as f64 / set.len().max(1) as f64,
+        });
+        if class == ShapeClass::Circles {
+            circle_pairs = set;
+        }
+    }
+    let disks: Vec<(Vec2, f64, Vec2, f64)> = circle_pairs
+        .iter()
+        .map(|p| {
+            (
+                p.pose_a.center(),
+                p.a.semi_axes().x,
+                p.pose_b.center(),
+                p.b.semi_axes().x,
+            )
+        })
+        .collect();
+    let overlaps = disks
+        .iter()
+        .filter(|d| disk_disk(d.0, d.1, d.2, d.3).is_some())
+        .count();
+    let ns = median_ns_per_item(&disks, reps, |d| {
+        black_box(disk_disk(black_box(d.0), d.1, black_box(d.2), d.3));
+    });
+    out.push(CaseResult {
+        name: "circles (centre distance, floor)".into(),
+        ns_per_pair: ns,
+        pairs: disks.len(),
+        overlap_fraction: overlaps as f64 / disks.len().max(1) as f64,
+        cells_per_pair: 0.0,
+    });
+    out
+}

@@ -1,0 +1,65 @@
+//! Contact (paper III-A, III-B; SPEC §4): the deepest points and the penetration vectors.
+//!
+//! `A1` is the point of A most interior to B; following `grad f_B(A1)` from `A1` to B's boundary
+//! gives `B2`, and `A1 -> B2` estimates the penetration of A into B (`a_push`, the way A should
+//! move to get out). `A2`, `B1` and `b_push` likewise for B.
+
+mod ray;
+mod superellipse_superellipse;
+mod superellipse_wall;
+
+pub use ray::ray_to_boundary;
+pub use superellipse_superellipse::{contact, contact_with_cells};
+pub use superellipse_wall::{contact_wall, contact_wall_with_cells};
+
+use crate::geometry::Vec2;
+
+/// What two shapes do to each other.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// `None`: no point was proven inside both shapes (they are apart, or within one final cell
+    /// of touching).
+    pub penetration: Option<Penetration>,
+    /// Quadtree cells classified to reach the answer.
+    pub cells: u32,
+}
+
+/// The deepest points and penetration vectors of an overlap, in world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Penetration {
+    /// `A1`: the point of A most interior to B.
+    pub a_deepest: Vec2,
+    /// `A2`: the point of B most interior to A.
+    pub b_deepest: Vec2,
+    /// `A1 -> B2`: from `A1` along `grad f_B(A1)` to B's boundary.
+    pub a_push: Vec2,
+    /// `A2 -> B1`: from `A2` along `grad f_A(A2)` to A's boundary.
+    pub b_push: Vec2,
+}
+
+impl Contact {
+    pub fn overlap(&self) -> bool {
+        self.penetration.is_some()
+    }
+}
+
+/// A shape against a wall (paper III-B).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallContact {
+    pub penetration: Option<WallPenetration>,
+    pub cells: u32,
+}
+
+/// The shape's point deepest in the wall and the vector that takes it back to the wall's
+/// surface. Walls do not move: the shape takes the whole correction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WallPenetration {
+    pub deepest: Vec2,
+    pub push: Vec2,
+}
+
+impl WallContact {
+    pub fn overlap(&self) -> bool {
+        self.penetration.is_some()
+    }
+}

@@ -1,0 +1,43 @@
+use super::{WallContact, WallPenetration};
+use crate::interval::{ImplicitShape, PlacedSuperellipse};
+use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::subdivision::{CellSink, Precision, deepest_points};
+
+/// The contact of a placed superellipse with a wall (paper III-B).
+///
+/// The same quadtree runs on `shape box ∩ wall half-plane` (paper Fig. 8), in world
+/// coordinates, where that region is a thin axis-aligned strip for the box's walls. `B` is the
+/// projection of the deepest point on the wall's surface, with no bisection needed.
+pub fn contact_wall(
+    shape: &Superellipse,
+    pose: &Pose,
+    wall: &HalfPlane,
+    precision: &Precision,
+) -> WallContact {
+    contact_wall_with_cells(shape, pose, wall, precision, &mut ())
+}
+
+/// [`contact_wall`], handing every classified cell (world coordinates) to `sink`.
+pub fn contact_wall_with_cells<S: CellSink + ?Sized>(
+    shape: &Superellipse,
+    pose: &Pose,
+    wall: &HalfPlane,
+    precision: &Precision,
+    sink: &mut S,
+) -> WallContact {
+    let placed = PlacedSuperellipse::new(*shape, *pose);
+    let Some(region) = placed.bounding_box().intersection(&wall.bounding_box()) else {
+        return WallContact {
+            penetration: None,
+            cells: 0,
+        };
+    };
+    let found = deepest_points(&placed, wall, &region, precision, false, sink);
+    WallContact {
+        penetration: found.in_a.map(|d| WallPenetration {
+            deepest: d.point,
+            push: wall.project(d.point) - d.point,
+        }),
+        cells: found.cells,
+    }
+}

@@ -1,0 +1,212 @@
+//! Plain 2D vectors, rotations and axis-aligned boxes: the vocabulary every layer speaks.
+
+use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
+
+/// A point or a vector in the plane.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Vec2 {
+    pub x: f64,
+    pub y: f64,
+}
+
+impl Vec2 {
+    pub const ZERO: Vec2 = Vec2 { x: 0.0, y: 0.0 };
+
+    pub const fn new(x: f64, y: f64) -> Self {
+        Vec2 { x, y }
+    }
+
+    pub fn dot(self, o: Vec2) -> f64 {
+        self.x * o.x + self.y * o.y
+    }
+
+    /// The 2D cross product `self x o` (the z component of the 3D one).
+    pub fn cross(self, o: Vec2) -> f64 {
+        self.x * o.y - self.y * o.x
+    }
+
+    pub fn norm(self) -> f64 {
+        self.x.hypot(self.y)
+    }
+
+    pub fn is_finite(self) -> bool {
+        self.x.is_finite() && self.y.is_finite()
+    }
+
+    /// The unit vector along `self`, or `None` for a zero or non-finite vector whose direction
+    /// cannot be recovered. Infinite components (gradients of exponents below 1 near an axis)
+    /// still give their direction.
+    pub fn direction(self) -> Option<Vec2> {
+        if self.x.is_nan() || self.y.is_nan() {
+            return None;
+        }
+        let v = if self.x.is_infinite() || self.y.is_infinite() {
+            let keep = |c: f64| if c.is_infinite() { c.signum() } else { 0.0 };
+            Vec2::new(keep(self.x), keep(self.y))
+        } else {
+            // Scale first so that tiny or huge vectors normalise without under/overflow.
+            let m = self.x.abs().max(self.y.abs());
+            if m == 0.0 {
+                return None;
+            }
+            Vec2::new(self.x / m, self.y / m)
+        };
+        let n = v.norm();
+        (n > 0.0).then(|| Vec2::new(v.x / n, v.y / n))
+    }
+
+    pub fn to_array(self) -> [f64; 2] {
+        [self.x, self.y]
+    }
+}
+
+impl From<[f64; 2]> for Vec2 {
+    fn from(a: [f64; 2]) -> Self {
+        Vec2::new(a[0], a[1])
+    }
+}
+
+impl Add for Vec2 {
+    type Output = Vec2;
+    fn add(self, o: Vec2) -> Vec2 {
+        Vec2::new(self.x + o.x, self.y + o.y)
+    }
+}
+
+impl AddAssign for Vec2 {
+    fn add_assign(&mut self, o: Vec2) {
+        *self = *self + o;
+    }
+}
+
+impl Sub for Vec2 {
+    type Output = Vec2;
+    fn sub(self, o: Vec2) -> Vec2 {
+        Vec2::new(self.x - o.x, self.y - o.y)
+    }
+}
+
+impl SubAssign for Vec2 {
+    fn sub_assign(&mut self, o: Vec2) {
+        *self = *self - o;
+    }
+}
+
+impl Mul<f64> for Vec2 {
+    type Output = Vec2;
+    fn mul(self, k: f64) -> Vec2 {
+        Vec2::new(self.x * k, self.y * k)
+    }
+}
+
+impl Neg for Vec2 {
+    type Output = Vec2;
+    fn neg(self) -> Vec2 {
+        Vec2::new(-self.x, -self.y)
+    }
+}
+
+/// A rotation by an angle, stored as its cosine and sine.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rotation {
+    pub cos: f64,
+    pub sin: f64,
+}
+
+impl Rotation {
+    pub const IDENTITY: Rotation = Rotation { cos: 1.0, sin: 0.0 };
+
+    pub fn new(angle: f64) -> Self {
+        let (sin, cos) = angle.sin_cos();
+        Rotation { cos, sin }
+    }
+
+    /// `R(theta) v`.
+    pub fn apply(self, v: Vec2) -> Vec2 {
+        Vec2::new(
+            self.cos * v.x - self.sin * v.y,
+            self.sin * v.x + self.cos * v.y,
+        )
+    }
+
+    /// `R(-theta) v`.
+    pub fn apply_inverse(self, v: Vec2) -> Vec2 {
+        Vec2::new(
+            self.cos * v.x + self.sin * v.y,
+            -self.sin * v.x + self.cos * v.y,
+        )
+    }
+}
+
+/// An axis-aligned box `[min.x, max.x] x [min.y, max.y]`; sides may be infinite (half-planes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Vec2,
+    pub max: Vec2,
+}
+
+impl Aabb {
+    /// The whole plane.
+    pub const EVERYWHERE: Aabb = Aabb {
+        min: Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        max: Vec2::new(f64::INFINITY, f64::INFINITY),
+    };
+
+    pub const fn new(min: Vec2, max: Vec2) -> Self {
+        Aabb { min, max }
+    }
+
+    pub fn point(p: Vec2) -> Self {
+        Aabb { min: p, max: p }
+    }
+
+    pub fn center(&self) -> Vec2 {
+        Vec2::new(
+            0.5 * (self.min.x + self.max.x),
+            0.5 * (self.min.y + self.max.y),
+        )
+    }
+
+    pub fn width(&self) -> f64 {
+        self.max.x - self.min.x
+    }
+
+    pub fn height(&self) -> f64 {
+        self.max.y - self.min.y
+    }
+
+    /// Length of the diagonal.
+    pub fn diagonal(&self) -> f64 {
+        self.width().hypot(self.height())
+    }
+
+    /// The common part of two boxes, or `None` when they do not meet.
+    pub fn intersection(&self, o: &Aabb) -> Option<Aabb> {
+        let b = Aabb {
+            min: Vec2::new(self.min.x.max(o.min.x), self.min.y.max(o.min.y)),
+            max: Vec2::new(self.max.x.min(o.max.x), self.max.y.min(o.max.y)),
+        };
+        (b.min.x <= b.max.x && b.min.y <= b.max.y).then_some(b)
+    }
+
+    pub fn intersects(&self, o: &Aabb) -> bool {
+        self.min.x <= o.max.x
+            && o.min.x <= self.max.x
+            && self.min.y <= o.max.y
+            && o.min.y <= self.max.y
+    }
+
+    pub fn contains(&self, p: Vec2) -> bool {
+        (self.min.x..=self.max.x).contains(&p.x) && (self.min.y..=self.max.y).contains(&p.y)
+    }
+
+    /// The box of this box after the rigid motion `p -> rotation p + translation`.
+    pub fn transformed(&self, rotation: Rotation, translation: Vec2) -> Aabb {
+        let c = rotation.apply(self.center()) + translation;
+        let hw = 0.5 * self.width();
+        let hh = 0.5 * self.height();
+        let ex = rotation.cos.abs() * hw + rotation.sin.abs() * hh;
+        let ey = rotation.sin.abs() * hw + rotation.cos.abs() * hh;
+        Aabb::new(Vec2::new(c.x - ex, c.y - ey), Vec2::new(c.x + ex, c.y + ey))
+    }
+}

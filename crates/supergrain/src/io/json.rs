@@ -1,0 +1,104 @@
+use serde::{Deserialize, Serialize};
+
+use crate::contact::Contact;
+use crate::geometry::Vec2;
+use crate::shape::{Pose, ShapeError, Superellipse};
+use crate::subdivision::{Precision, PrecisionError};
+
+/// The project's one JSON form of a placed shape:
+/// `{"center": [x, y], "angle": radians, "semi_axes": [sx, sy], "exponents": [ex, ey]}`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShapeJson {
+    pub center: [f64; 2],
+    #[serde(default)]
+    pub angle: f64,
+    pub semi_axes: [f64; 2],
+    pub exponents: [f64; 2],
+}
+
+impl ShapeJson {
+    /// The validated shape and pose.
+    pub fn to_shape(&self) -> Result<(Superellipse, Pose), ShapeError> {
+        Ok((
+            Superellipse::new(self.semi_axes, self.exponents)?,
+            Pose::new(Vec2::from(self.center), self.angle)?,
+        ))
+    }
+
+    pub fn from_shape(shape: &Superellipse, pose: &Pose) -> Self {
+        ShapeJson {
+            center: pose.center().to_array(),
+            angle: pose.angle(),
+            semi_axes: shape.semi_axes().to_array(),
+            exponents: shape.exponents(),
+        }
+    }
+}
+
+/// One line of `supergrain contact --batch`: `{"a": SHAPE, "b": SHAPE}`, optionally with
+/// `"depth"` and `"eps"`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactQuery {
+    pub a: ShapeJson,
+    pub b: ShapeJson,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth: Option<u32>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub eps: Option<f64>,
+}
+
+/// Why a query cannot be answered.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QueryError {
+    #[error("shape a: {0}")]
+    A(ShapeError),
+    #[error("shape b: {0}")]
+    B(ShapeError),
+    #[error(transparent)]
+    Precision(#[from] PrecisionError),
+}
+
+impl ContactQuery {
+    /// The validated shapes, poses and precision; missing `depth`/`eps` come from `defaults`.
+    #[allow(clippy::type_complexity)]
+    pub fn resolve(
+        &self,
+        defaults: &Precision,
+    ) -> Result<((Superellipse, Pose), (Superellipse, Pose), Precision), QueryError> {
+        let a = self.a.to_shape().map_err(QueryError::A)?;
+        let b = self.b.to_shape().map_err(QueryError::B)?;
+        let precision = Precision::new(
+            self.depth.unwrap_or(defaults.depth()),
+            self.eps.unwrap_or(defaults.eps()),
+        )?;
+        Ok((a, b, precision))
+    }
+}
+
+/// The answer to a [`ContactQuery`]:
+/// `{"overlap", "a_deepest", "b_deepest", "a_push", "b_push", "cells"}`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactAnswer {
+    pub overlap: bool,
+    pub a_deepest: Option<[f64; 2]>,
+    pub b_deepest: Option<[f64; 2]>,
+    pub a_push: Option<[f64; 2]>,
+    pub b_push: Option<[f64; 2]>,
+    pub cells: u32,
+}
+
+impl From<&Contact> for ContactAnswer {
+    fn from(c: &Contact) -> Self {
+        let p = c.penetration;
+        ContactAnswer {
+            overlap: c.overlap(),
+            a_deepest: p.map(|p| p.a_deepest.to_array()),
+            b_deepest: p.map(|p| p.b_deepest.to_array()),
+            a_push: p.map(|p| p.a_push.to_array()),
+            b_push: p.map(|p| p.b_push.to_array()),
+            cells: c.cells,
+        }
+    }
+}

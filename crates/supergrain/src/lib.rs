@@ -1,0 +1,23 @@
+//! supergrain: granular material made of superellipses, with collision detection certified by
+//! interval arithmetic on a quadtree (Figueiredo & Celes, "Detecção de colisão para simulação
+//! entre partículas representadas como superelipses").
+//!
+//! The library is a pipeline in layers, each knowing only those below it:
+//!
+//! | layer | module | paper |
+//! |---|---|---|
+//! | vectors, boxes | [`geometry`] | |
+//! | shapes | [`shape`] | I |
+//! | interval enclosures | [`interval`] | II-A |
+//! | quadtree narrow phase | [`subdivision`] | II |
+//! | deepest points, penetration | [`contact`] | III-A, III-B |
+//! | JSON forms | [`io`] | |
+//! | benchmark scenes | [`bench`] | IV-A |
+
+pub mod bench;
+pub mod contact;
+pub mod geometry;
+pub mod interval;
+pub mod io;
+pub mod shape;
+pub mod subdivision;

@@ -1,0 +1,39 @@
+//! Shapes (paper I, SPEC §1): the superellipse, its pose, and the box walls as half-planes.
+//!
+//! A shape knows its implicit function, gradient, bounding box and mass properties; it knows
+//! nothing of intervals, trees or simulation.
+
+mod half_plane;
+mod pose;
+mod superellipse;
+
+pub use half_plane::HalfPlane;
+pub use pose::Pose;
+pub use superellipse::Superellipse;
+
+/// Why a shape, pose or wall could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ShapeError {
+    #[error("{name} must be a finite number greater than 0, got {value}")]
+    NotPositive { name: &'static str, value: f64 },
+    #[error("{name} must be a finite number, got {value}")]
+    NotFinite { name: &'static str, value: f64 },
+    #[error("{name} must be a non-zero finite vector, got ({x}, {y})")]
+    BadDirection { name: &'static str, x: f64, y: f64 },
+}
+
+pub(crate) fn check_positive(name: &'static str, value: f64) -> Result<f64, ShapeError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(ShapeError::NotPositive { name, value })
+    }
+}
+
+pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<f64, ShapeError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ShapeError::NotFinite { name, value })
+    }
+}

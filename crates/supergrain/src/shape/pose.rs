@@ -1,0 +1,62 @@
+use super::{ShapeError, check_finite};
+use crate::geometry::{Rotation, Vec2};
+
+/// Where a shape is: its centre `(x0, y0)` and its angle `theta` (radians, counter-clockwise).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    center: Vec2,
+    angle: f64,
+    rotation: Rotation,
+}
+
+impl Pose {
+    /// A pose with a finite centre and angle.
+    pub fn new(center: Vec2, angle: f64) -> Result<Self, ShapeError> {
+        check_finite("center x", center.x)?;
+        check_finite("center y", center.y)?;
+        check_finite("angle", angle)?;
+        Ok(Pose {
+            center,
+            angle,
+            rotation: Rotation::new(angle),
+        })
+    }
+
+    pub fn center(&self) -> Vec2 {
+        self.center
+    }
+
+    pub fn angle(&self) -> f64 {
+        self.angle
+    }
+
+    pub fn rotation(&self) -> Rotation {
+        self.rotation
+    }
+
+    /// World point -> this pose's local frame: `R(-theta) (p - c)`.
+    pub fn to_local(&self, p: Vec2) -> Vec2 {
+        self.rotation.apply_inverse(p - self.center)
+    }
+
+    /// Local point -> world: `R(theta) p + c`.
+    pub fn to_world(&self, p: Vec2) -> Vec2 {
+        self.rotation.apply(p) + self.center
+    }
+
+    /// Local vector -> world.
+    pub fn vector_to_world(&self, v: Vec2) -> Vec2 {
+        self.rotation.apply(v)
+    }
+
+    /// Where `other` is, seen from this pose's local frame (`pos12 = pos1^-1 pos2`).
+    /// The result is not re-validated: it is finite whenever both poses are.
+    pub fn relative(&self, other: &Pose) -> Pose {
+        let angle = other.angle - self.angle;
+        Pose {
+            center: self.to_local(other.center),
+            angle,
+            rotation: Rotation::new(angle),
+        }
+    }
+}

@@ -1,0 +1,177 @@
+use super::{Pose, ShapeError, check_positive};
+use crate::geometry::{Aabb, Vec2};
+
+/// A superellipse centred at the origin, axis-aligned: `h(x, y) = |x/s_x|^e_x + |y/s_y|^e_y <= 1`
+/// (paper I). `e = 2` is an ellipse, `e > 2` blocky, `1 <= e < 2` diamond-like, `e < 1` a
+/// non-convex star.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Superellipse {
+    semi_axes: Vec2,
+    exponents: [f64; 2],
+}
+
+impl Superellipse {
+    /// A superellipse with semi-axes `[s_x, s_y]` and exponents `[e_x, e_y]`, all finite and > 0.
+    pub fn new(semi_axes: [f64; 2], exponents: [f64; 2]) -> Result<Self, ShapeError> {
+        Ok(Superellipse {
+            semi_axes: Vec2::new(
+                check_positive("semi-axis x", semi_axes[0])?,
+                check_positive("semi-axis y", semi_axes[1])?,
+            ),
+            exponents: [
+                check_positive("exponent x", exponents[0])?,
+                check_positive("exponent y", exponents[1])?,
+            ],
+        })
+    }
+
+    /// A circle of the given radius.
+    pub fn circle(radius: f64) -> Result<Self, ShapeError> {
+        Self::new([radius, radius], [2.0, 2.0])
+    }
+
+    pub fn semi_axes(&self) -> Vec2 {
+        self.semi_axes
+    }
+
+    pub fn exponents(&self) -> [f64; 2] {
+        self.exponents
+    }
+
+    /// Rotation changes nothing (a circle): contact can skip the rotated enclosure.
+    pub fn is_circle(&self) -> bool {
+        self.exponents == [2.0, 2.0] && self.semi_axes.x == self.semi_axes.y
+    }
+
+    /// The implicit function in the local frame: `h(p) - 1`, negative inside.
+    pub fn local_value(&self, p: Vec2) -> f64 {
+        let [ex, ey] = self.exponents;
+        abs_pow(p.x / self.semi_axes.x, ex) + abs_pow(p.y / self.semi_axes.y, ey) - 1.0
+    }
+
+    /// The gradient of [`local_value`](Self::local_value). Components may be infinite for
+    /// exponents below 1 close to an axis; on the axis itself they are taken as 0.
+    pub fn local_gradient(&self, p: Vec2) -> Vec2 {
+        let [ex, ey] = self.exponents;
+        let d = |c: f64, s: f64, e: f64| {
+            let t = c / s;
+            if t == 0.0 {
+                0.0
+            } else {
+                e * abs_pow(t, e - 1.0) * t.signum() / s
+            }
+        };
+        Vec2::new(d(p.x, self.semi_axes.x, ex), d(p.y, self.semi_axes.y, ey))
+    }
+
+    /// The implicit function `f(p) = h(R(-theta)(p - c)) - 1` of the placed shape (SPEC §1).
+    pub fn value(&self, pose: &Pose, p: Vec2) -> f64 {
+        self.local_value(pose.to_local(p))
+    }
+
+    /// The world-frame gradient of [`value`](Self::value).
+    pub fn gradient(&self, pose: &Pose, p: Vec2) -> Vec2 {
+        pose.vector_to_world(self.local_gradient(pose.to_local(p)))
+    }
+
+    /// The point of the boundary at parameter `t` (radians): the classic parametrisation
+    /// `(s_x sgn(cos t) |cos t|^(2/e_x), s_y sgn(sin t) |sin t|^(2/e_y))`.
+    pub fn boundary_point(&self, t: f64) -> Vec2 {
+        let [ex, ey] = self.exponents;
+        let (s, c) = t.sin_cos();
+        let p = |v: f64, e: f64| v.signum() * v.abs().powf(2.0 / e);
+        Vec2::new(self.semi_axes.x * p(c, ex), self.semi_axes.y * p(s, ey))
+    }
+
+    /// An upper bound of the support function `max over the shape of d . p` for a local
+    /// direction `d`: exact when `e_x = e_y`, and otherwise that of the superellipse with both
+    /// exponents equal to the larger one, which contains this one.
+    ///
+    /// By Holder's inequality, `d . p <= ||(d_x s_x, d_y s_y)||_q` with `1/e + 1/q = 1`; for
+    /// `e <= 1` the shape lies in the diamond `e = 1`, whose support is `max(|d_x| s_x, |d_y| s_y)`.
+    pub fn local_support(&self, d: Vec2) -> f64 {
+        let e = self.exponents[0].max(self.exponents[1]);
+        let a = (d.x * self.semi_axes.x).abs();
+        let b = (d.y * self.semi_axes.y).abs();
+        let m = a.max(b);
+        if m == 0.0 {
+            return 0.0;
+        }
+        let s = if e <= 1.0 {
+            m
+        } else {
+            let q = e / (e - 1.0);
+            // Normalise by the larger term so that huge q neither overflows nor underflows.
+            m * (1.0 + (a.min(b) / m).powf(q)).powf(1.0 / q)
+        };
+        // A relative pad of a few ulps: the box must never be smaller than the shape.
+        s * (1.0 + 8.0 * f64::EPSILON)
+    }
+
+    /// The axis-aligned bounding box of the placed shape (paper III-A, Fig. 4).
+    pub fn bounding_box(&self, pose: &Pose) -> Aabb {
+        let r = pose.rotation();
+        // World axes seen from the local frame: R(-theta) e_x and R(-theta) e_y.
+        let hx = self.local_support(Vec2::new(r.cos, -r.sin));
+        let hy = self.local_support(Vec2::new(r.sin, r.cos));
+        let c = pose.center();
+        Aabb::new(Vec2::new(c.x - hx, c.y - hy), Vec2::new(c.x + hx, c.y + hy))
+    }
+
+    /// A radius about the centre that holds the whole shape: `max(s_x, s_y)` when both
+    /// exponents are at most 2 (the shape lies in the ellipse), the half-diagonal otherwise.
+    pub fn bounding_radius(&self) -> f64 {
+        let [ex, ey] = self.exponents;
+        let Vec2 { x: sx, y: sy } = self.semi_axes;
+        let r = if ex <= 2.0 && ey <= 2.0 {
+            sx.max(sy)
+        } else {
+            sx.hypot(sy)
+        };
+        r * (1.0 + 8.0 * f64::EPSILON)
+    }
+
+    /// The area, `4 s_x s_y G(1 + 1/e_x) G(1 + 1/e_y) / G(1 + 1/e_x + 1/e_y)` (G: gamma).
+    pub fn area(&self) -> f64 {
+        let [p, q] = self.exponents;
+        4.0 * self.semi_axes.x * self.semi_axes.y * dirichlet(1.0, 1.0, p, q)
+    }
+
+    /// The polar second moment of area about the centre, `J = integral of (x^2 + y^2) dA`.
+    pub fn polar_moment_of_area(&self) -> f64 {
+        let [p, q] = self.exponents;
+        let Vec2 { x: a, y: b } = self.semi_axes;
+        4.0 * (a * a * a * b * dirichlet(3.0, 1.0, p, q)
+            + a * b * b * b * dirichlet(1.0, 3.0, p, q))
+    }
+
+    /// The moment of inertia about the centre of a uniform grain of the given mass.
+    pub fn moment_of_inertia(&self, mass: f64) -> f64 {
+        mass * self.polar_moment_of_area() / self.area()
+    }
+}
+
+/// `|t|^e` in plain floating point, without `powf` for the common exponents (paper IV-A).
+#[inline]
+pub(crate) fn abs_pow(t: f64, e: f64) -> f64 {
+    let a = t.abs();
+    if e == 2.0 {
+        a * a
+    } else if e == 1.0 {
+        a
+    } else if e == 4.0 {
+        (a * a) * (a * a)
+    } else if e == 3.0 {
+        a * a * a
+    } else {
+        a.powf(e)
+    }
+}
+
+/// The Dirichlet integral over the quarter `u, v >= 0, u^p + v^q <= 1` of `u^(alpha-1) v^(beta-1)`:
+/// `G(alpha/p) G(beta/q) / (p q G(1 + alpha/p + beta/q))`, computed with logarithms of gamma so
+/// that large arguments (small exponents) do not overflow.
+fn dirichlet(alpha: f64, beta: f64, p: f64, q: f64) -> f64 {
+    let (a, b) = (alpha / p, beta / q);
+    (libm::lgamma(a) + libm::lgamma(b) - libm::lgamma(1.0 + a + b)).exp() / (p * q)
+}
