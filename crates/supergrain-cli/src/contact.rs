@@ -26,15 +26,14 @@ arithmetic. false means apart, or within one final quadtree cell of touching.
 
 Examples:
   supergrain contact --a 0,0,0,1,1,2,2 --b 1.9,0,0.3,1,0.5,4,4
-  echo '{\"a\": {\"center\": [0,0], \"angle\": 0, \"semi_axes\": [1,1], \"exponents\": [2,2]},
-         \"b\": {\"center\": [1.5,0], \"angle\": 0, \"semi_axes\": [1,1], \"exponents\": [2,2]}}' \\
-    | supergrain contact --batch -")]
+  supergrain contact --a -1,0,0,1,1,2,2 --b 0.9,0,0,1,1,2,2
+  echo '{\"a\": {\"center\": [0,0], \"semi_axes\": [1,1], \"exponents\": [2,2]}, \"b\": {\"center\": [1.5,0], \"semi_axes\": [1,1], \"exponents\": [2,2]}}' | supergrain contact --batch -")]
 pub struct Args {
     /// Shape A (see SHAPE below).
-    #[arg(long, value_name = "SHAPE", required_unless_present = "batch", conflicts_with = "batch", value_parser = parse_shape)]
+    #[arg(long, value_name = "SHAPE", required_unless_present = "batch", conflicts_with = "batch", allow_hyphen_values = true, value_parser = parse_shape)]
     a: Option<ShapeJson>,
     /// Shape B (see SHAPE below).
-    #[arg(long, value_name = "SHAPE", required_unless_present = "batch", value_parser = parse_shape)]
+    #[arg(long, value_name = "SHAPE", required_unless_present = "batch", conflicts_with = "batch", allow_hyphen_values = true, value_parser = parse_shape)]
     b: Option<ShapeJson>,
     /// Read pairs as JSON Lines from FILE (or - for standard input): {"a": SHAPE, "b": SHAPE},
     /// optionally with "depth" and "eps". Each output line answers the input line of the same

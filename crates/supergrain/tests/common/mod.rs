@@ -1,0 +1,186 @@
+//! Independent references for the narrow-phase tests. Nothing here calls the library's
+//! geometry, intervals or quadtree: shapes are plain numbers and every formula is written again.
+#![allow(dead_code)]
+
+use std::f64::consts::TAU;
+
+/// A placed superellipse as plain numbers.
+#[derive(Clone, Copy, Debug)]
+pub struct Shape {
+    pub c: [f64; 2],
+    pub angle: f64,
+    pub s: [f64; 2],
+    pub e: [f64; 2],
+}
+
+impl Shape {
+    /// `f(p) = |u/sx|^ex + |v/sy|^ey - 1` with `(u, v)` = `p` in the shape's frame.
+    pub fn f(&self, p: [f64; 2]) -> f64 {
+        let (sn, cs) = self.angle.sin_cos();
+        let (dx, dy) = (p[0] - self.c[0], p[1] - self.c[1]);
+        let u = cs * dx + sn * dy;
+        let v = -sn * dx + cs * dy;
+        (u / self.s[0]).abs().powf(self.e[0]) + (v / self.s[1]).abs().powf(self.e[1]) - 1.0
+    }
+
+    fn local_to_world(&self, u: f64, v: f64) -> [f64; 2] {
+        let (sn, cs) = self.angle.sin_cos();
+        [self.c[0] + cs * u - sn * v, self.c[1] + sn * u + cs * v]
+    }
+
+    /// The boundary point at parameter `t`.
+    pub fn boundary(&self, t: f64) -> [f64; 2] {
+        let (sn, cs) = t.sin_cos();
+        let g = |x: f64, e: f64| x.signum() * x.abs().powf(2.0 / e);
+        self.local_to_world(self.s[0] * g(cs, self.e[0]), self.s[1] * g(sn, self.e[1]))
+    }
+
+    pub fn max_axis(&self) -> f64 {
+        self.s[0].max(self.s[1])
+    }
+
+    pub fn min_axis(&self) -> f64 {
+        self.s[0].min(self.s[1])
+    }
+
+    /// Boundary samples no farther apart than `h`, refining the parameter where needed.
+    pub fn samples(&self, h: f64) -> Vec<[f64; 2]> {
+        let mut out = Vec::new();
+        let n = 256;
+        for i in 0..n {
+            let (t0, t1) = (i as f64 * TAU / n as f64, (i + 1) as f64 * TAU / n as f64);
+            self.refine(t0, self.boundary(t0), t1, self.boundary(t1), h, 0, &mut out);
+        }
+        out
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn refine(
+        &self,
+        t0: f64,
+        p0: [f64; 2],
+        t1: f64,
+        p1: [f64; 2],
+        h: f64,
+        depth: u32,
+        out: &mut Vec<[f64; 2]>,
+    ) {
+        if dist(p0, p1) <= h || depth > 40 {
+            out.push(p0);
+            return;
+        }
+        let tm = 0.5 * (t0 + t1);
+        let pm = self.boundary(tm);
+        self.refine(t0, p0, tm, pm, h, depth + 1, out);
+        self.refine(tm, pm, t1, p1, h, depth + 1, out);
+    }
+}
+
+pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// Some boundary sample of one shape lies inside the other.
+pub fn sampled_overlap(a: &Shape, sa: &[[f64; 2]], b: &Shape, sb: &[[f64; 2]]) -> bool {
+    sb.iter().any(|&p| a.f(p) < 0.0) || sa.iter().any(|&p| b.f(p) < 0.0)
+}
+
+/// The smallest distance between the two sample sets (only samples near the other shape's
+/// reach are compared, which does not change the minimum).
+pub fn sampled_gap(sa: &[[f64; 2]], b: &Shape, sb: &[[f64; 2]], a: &Shape) -> f64 {
+    let near = |s: &[[f64; 2]], o: &Shape| -> Vec<[f64; 2]> {
+        let r = o.s[0].hypot(o.s[1]) * 1.01;
+        s.iter()
+            .copied()
+            .filter(|&p| dist(p, o.c) <= r + 0.5)
+            .collect()
+    };
+    let (na, nb) = (near(sa, b), near(sb, a));
+    let mut best = f64::INFINITY;
+    for p in &na {
+        for q in &nb {
+            best = best.min(dist(*p, *q));
+        }
+    }
+    best
+}
+
+/// The Perram-Wertheim contact function of two ellipses:
+/// `F = max over l in [0, 1] of l (1 - l) r^T ((1 - l) A^-1 + l B^-1)^-1 r`, `A = R diag(1/a^2) R^T`.
+/// `F < 1`: overlap; `F = 1`: touching; `F > 1`: apart. Scaling both ellipses about their
+/// centres by `sqrt(F)` makes them touch.
+pub fn perram_wertheim(a: &Shape, b: &Shape) -> f64 {
+    // A^-1 = R diag(a^2) R^T.
+    let inv = |s: &Shape| {
+        let (sn, cs) = s.angle.sin_cos();
+        let (p, q) = (s.s[0] * s.s[0], s.s[1] * s.s[1]);
+        [
+            cs * cs * p + sn * sn * q,
+            cs * sn * (p - q),
+            sn * sn * p + cs * cs * q,
+        ]
+    };
+    let (ia, ib) = (inv(a), inv(b));
+    let r = [b.c[0] - a.c[0], b.c[1] - a.c[1]];
+    let s = |l: f64| {
+        let m = [
+            (1.0 - l) * ia[0] + l * ib[0],
+            (1.0 - l) * ia[1] + l * ib[1],
+            (1.0 - l) * ia[2] + l * ib[2],
+        ];
+        let det = m[0] * m[2] - m[1] * m[1];
+        // r^T M^-1 r with M^-1 = [m2, -m1; -m1, m0] / det.
+        let q = (m[2] * r[0] * r[0] - 2.0 * m[1] * r[0] * r[1] + m[0] * r[1] * r[1]) / det;
+        l * (1.0 - l) * q
+    };
+    // The function is concave in l: golden-section search.
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    let g = 0.618_033_988_749_895;
+    for _ in 0..200 {
+        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if s(x1) < s(x2) {
+            lo = x1;
+        } else {
+            hi = x2;
+        }
+    }
+    s(0.5 * (lo + hi))
+}
+
+/// A small deterministic generator (xorshift), so the references need no crate of the library's.
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+    }
+
+    pub fn next_f64(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next_f64()
+    }
+}
+
+/// The library's view of a reference shape.
+pub fn to_lib(s: &Shape) -> (supergrain::shape::Superellipse, supergrain::shape::Pose) {
+    (
+        supergrain::shape::Superellipse::new(s.s, s.e).unwrap(),
+        supergrain::shape::Pose::new(supergrain::geometry::Vec2::new(s.c[0], s.c[1]), s.angle)
+            .unwrap(),
+    )
+}
+
+/// An upper bound of the diagonal of a final quadtree cell for the pair at depth `depth`: the
+/// region is at most the smaller shape's box, whose longest side is at most twice the larger
+/// of its semi-axes, rotated.
+pub fn cell_diagonal_bound(a: &Shape, b: &Shape, depth: u32) -> f64 {
+    let reach = |s: &Shape| 2.0 * s.s[0].hypot(s.s[1]);
+    let longest = reach(a).min(reach(b));
+    longest / f64::from(1u32 << depth) * std::f64::consts::SQRT_2
+}
