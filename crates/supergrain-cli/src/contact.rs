@@ -8,6 +8,7 @@ use anyhow::{Context, Result, bail};
 use clap::Parser;
 use supergrain::contact::contact;
 use supergrain::io::{ContactAnswer, ContactQuery, ShapeJson};
+use supergrain::render::contact_svg;
 use supergrain::subdivision::{MAX_DEPTH, Precision};
 
 use crate::output::Output;
@@ -49,6 +50,10 @@ pub struct Args {
     /// Write the answers to FILE instead of standard output (replaced only when complete).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
+    /// Also draw the collision test (quadtree cells by class, deepest points, penetration
+    /// vectors) as an SVG picture. Single pair only.
+    #[arg(long, value_name = "FILE", conflicts_with = "batch")]
+    svg: Option<PathBuf>,
 }
 
 fn parse_shape(s: &str) -> Result<ShapeJson, String> {
@@ -82,7 +87,13 @@ fn parse_shape(s: &str) -> Result<ShapeJson, String> {
 
 pub fn run(args: Args) -> Result<ExitCode> {
     let defaults = Precision::new(args.depth, args.eps).context("invalid --depth/--eps")?;
+    // Open every output before any work, so a bad path fails fast.
     let mut out = Output::open(args.output.as_deref())?;
+    let mut svg = args
+        .svg
+        .as_deref()
+        .map(|p| Output::open(Some(p)))
+        .transpose()?;
     let mut failed = 0usize;
     if let Some(path) = &args.batch {
         let input: Box<dyn BufRead> = if path.as_os_str() == "-" {
@@ -118,10 +129,18 @@ pub fn run(args: Args) -> Result<ExitCode> {
             eps: None,
         };
         let answer = answer(&query, &defaults).map_err(anyhow::Error::msg)?;
+        if let Some(svg_out) = svg.as_mut() {
+            let ((a, pa), (b, pb), precision) = query.resolve(&defaults)?;
+            let (picture, _) = contact_svg(&a, &pa, &b, &pb, &precision, 640);
+            svg_out.write_all(picture.as_bytes())?;
+        }
         serde_json::to_writer(&mut out, &answer)?;
         out.write_all(b"\n")?;
     }
     out.finish()?;
+    if let Some(svg_out) = svg {
+        svg_out.finish()?;
+    }
     if failed > 0 {
         eprintln!("{failed} line(s) could not be answered");
         return Ok(ExitCode::FAILURE);

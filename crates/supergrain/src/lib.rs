@@ -11,6 +11,7 @@
 //! | interval enclosures | [`interval`] | II-A |
 //! | quadtree narrow phase | [`subdivision`] | II |
 //! | deepest points, penetration | [`contact`] | III-A, III-B |
+//! | pictures | [`render`] | II-B |
 //! | JSON forms | [`io`] | |
 //! | benchmark scenes | [`bench`] | IV-A |
 
@@ -19,5 +20,6 @@ pub mod contact;
 pub mod geometry;
 pub mod interval;
 pub mod io;
+pub mod render;
 pub mod shape;
 pub mod subdivision;
