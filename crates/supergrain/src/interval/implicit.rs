@@ -26,6 +26,24 @@ pub trait ImplicitShape {
 
     /// A box holding the whole inside (possibly infinite).
     fn bounding_box(&self) -> Aabb;
+
+    /// Where `f` can have a local minimum. Unless [`Minima::Unknown`], the minimum of `f` over a
+    /// closed region lies on the region's boundary or at that point, which lets the deepest-point
+    /// search skip cells well inside the other shape.
+    fn minima(&self) -> Minima {
+        Minima::Unknown
+    }
+}
+
+/// Where an implicit function can have local minima.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Minima {
+    /// Nothing is known.
+    Unknown,
+    /// Nowhere (a linear function).
+    Nowhere,
+    /// Only at this point, about which `f` increases strictly along every ray.
+    At(Vec2),
 }
 
 /// A superellipse placed in some frame: the implicit function `f(p) = h(R(-theta)(p - c)) - 1`.
@@ -104,6 +122,11 @@ impl ImplicitShape for PlacedSuperellipse {
     fn bounding_box(&self) -> Aabb {
         self.shape.bounding_box(&self.pose)
     }
+
+    /// `h(t u, t v) = t^e_x |u|^e_x + t^e_y |v|^e_y` increases strictly with `t > 0`.
+    fn minima(&self) -> Minima {
+        Minima::At(self.pose.center())
+    }
 }
 
 impl ImplicitShape for HalfPlane {
@@ -126,5 +149,9 @@ impl ImplicitShape for HalfPlane {
 
     fn bounding_box(&self) -> Aabb {
         HalfPlane::bounding_box(self)
+    }
+
+    fn minima(&self) -> Minima {
+        Minima::Nowhere
     }
 }

@@ -14,13 +14,18 @@
 //!   interior to B, minimises `f_B` over A; a cell whose enclosure of `f_B` cannot beat the best
 //!   midpoint found so far cannot hold a better one and is not refined (likewise for `A2`).
 //!   `A1` is therefore the deepest of the final-level midpoints, as in the paper, without
-//!   visiting them all. Cells inside both shapes are refined while they may hold a deeper point.
+//!   visiting them all.
+//! - **Only boundaries hold deepest points.** `f_B` increases strictly along every ray from B's
+//!   centre, so `min f_B` over A lies on A's boundary, or at B's centre when A holds it: the
+//!   `A1` search skips cells strictly inside A that do not hold B's centre (the interior of the
+//!   lens of overlap), and likewise for `A2`. Shapes declare this through
+//!   [`ImplicitShape::minima`].
 //!   (Pruning with a tolerance of one final cell's change of `f` was tried: 1.6x fewer cells, but
 //!   on thin shapes the change of `f` varies so much along the boundary that the deepest point
 //!   came out several cells off; the reference tests caught it.)
 
 use crate::geometry::{Aabb, Vec2};
-use crate::interval::{ImplicitShape, Interval};
+use crate::interval::{ImplicitShape, Interval, Minima};
 
 /// The largest quadtree depth accepted; the traversal stack is sized from it.
 pub const MAX_DEPTH: u32 = 40;
@@ -173,6 +178,13 @@ where
     // Only points inside both count, so the bounds start at 0.
     let mut best_a = 0.0f64;
     let mut best_b = if want_b { 0.0f64 } else { f64::NEG_INFINITY };
+    let (minima_a, minima_b) = (a.minima(), b.minima());
+    let may_hold = |m: Minima, c: &Aabb| match m {
+        Minima::Unknown => true,
+        Minima::Nowhere => false,
+        Minima::At(p) => c.contains(p),
+    };
+
     let root = Node {
         cell: *region,
         fa: a.enclose(region),
@@ -191,8 +203,33 @@ where
         let Node { cell, fa, fb } = stack[len];
         // Could this cell still hold a better A1 (min f_B over A) or A2 (min f_A over B)?
         // Outside either shape (lower bound > 0) it cannot: the paper's discard rule.
-        let useful_a = fa.lo <= 0.0 && fb.lo < best_a;
-        let useful_b = fb.lo <= 0.0 && fa.lo < best_b;
+        let useful_a =
+            fa.lo <= 0.0 && fb.lo < best_a && (fa.hi >= 0.0 || may_hold(minima_b, &cell));
+        let useful_b =
+            fb.lo <= 0.0 && fa.lo < best_b && (fb.hi >= 0.0 || may_hold(minima_a, &cell));
+        if !(useful_a || useful_b) && fa.hi < 0.0 && fb.hi < 0.0 && found.in_a.is_none() {
+            // Inside both but of no use to either search: its midpoint still proves the
+            // overlap, and is the best candidate yet.
+            let (pa, pb) = (
+                a.enclose_point(cell.center()),
+                b.enclose_point(cell.center()),
+            );
+            if pa.hi < 0.0 && pb.hi < 0.0 {
+                best_a = pb.hi;
+                found.in_a = Some(Deepest {
+                    point: cell.center(),
+                    other_value: pb.hi,
+                });
+                if want_b {
+                    best_b = pa.hi;
+                    found.in_b = Some(Deepest {
+                        point: cell.center(),
+                        other_value: pa.hi,
+                    });
+                }
+            }
+            continue;
+        }
         if !(useful_a || useful_b) {
             continue;
         }
