@@ -52,23 +52,70 @@ pub struct PlacedSuperellipse {
     shape: Superellipse,
     pose: Pose,
     exponents: [Exponent; 2],
-    /// The centre is the frame's origin: no translation, and no rounding from it.
-    at_origin: bool,
-    /// The shape's axes are the frame's axes (or it is a circle): its enclosure is then exact
-    /// up to rounding, with no rotated-box overestimation.
-    aligned: bool,
+    /// The scaled local coordinates as affine maps of the frame's: `u / s_x = U . (x, y, 1)` and
+    /// `v / s_y = V . (x, y, 1)`, folded once so that an enclosure is two dot products.
+    maps: [Affine; 2],
+}
+
+/// `a x + b y + k`, with the coefficients as rounded from their exact values.
+#[derive(Clone, Copy, Debug)]
+struct Affine {
+    a: f64,
+    b: f64,
+    k: f64,
+}
+
+impl Affine {
+    /// A rigorous enclosure of the exact map over the box. Each coefficient is within half an
+    /// ulp of its exact value, each product and sum rounds by half an ulp, and every term is at
+    /// most `M = |a| max|x| + |b| max|y| + |k|`; so the rounded result is within `4 eps M` of the
+    /// exact one, and `8 eps M` is a safe widening (plus `MIN_POSITIVE` for underflow). One
+    /// widening instead of one per operation keeps the hot loop short.
+    #[inline(always)]
+    fn enclose(&self, cell: &Aabb) -> Interval {
+        let (xl, xh) = if self.a >= 0.0 {
+            (cell.min.x, cell.max.x)
+        } else {
+            (cell.max.x, cell.min.x)
+        };
+        let (yl, yh) = if self.b >= 0.0 {
+            (cell.min.y, cell.max.y)
+        } else {
+            (cell.max.y, cell.min.y)
+        };
+        let lo = self.a * xl + self.b * yl + self.k;
+        let hi = self.a * xh + self.b * yh + self.k;
+        let m = self.a.abs() * cell.min.x.abs().max(cell.max.x.abs())
+            + self.b.abs() * cell.min.y.abs().max(cell.max.y.abs())
+            + self.k.abs();
+        let err = 8.0 * f64::EPSILON * m + f64::MIN_POSITIVE;
+        Interval::new(lo - err, hi + err)
+    }
 }
 
 impl PlacedSuperellipse {
     pub fn new(shape: Superellipse, pose: Pose) -> Self {
-        let aligned = shape.is_circle() || pose.rotation() == Rotation::IDENTITY;
         let [ex, ey] = shape.exponents();
+        let s = shape.semi_axes();
+        let c = pose.center();
+        // A circle looks the same at any angle: skip the rotation, which keeps its enclosure
+        // exact (up to rounding) with no rotated-box overestimation.
+        let r = if shape.is_circle() {
+            Rotation::IDENTITY
+        } else {
+            pose.rotation()
+        };
+        // u = cos (x - cx) + sin (y - cy), v = -sin (x - cx) + cos (y - cy).
+        let map = |a: f64, b: f64, s: f64| Affine {
+            a: a / s,
+            b: b / s,
+            k: -(a * c.x + b * c.y) / s,
+        };
         PlacedSuperellipse {
             shape,
             pose,
             exponents: [Exponent::new(ex), Exponent::new(ey)],
-            at_origin: pose.center() == Vec2::ZERO,
-            aligned,
+            maps: [map(r.cos, r.sin, s.x), map(-r.sin, r.cos, s.y)],
         }
     }
 
@@ -86,28 +133,9 @@ impl ImplicitShape for PlacedSuperellipse {
     /// the rotated cell), where `|t|^e` is monotone on each side of 0 and the sum separable.
     #[inline]
     fn enclose(&self, cell: &Aabb) -> Interval {
-        let c = self.pose.center();
-        let (mut dx, mut dy) = (
-            Interval::new(cell.min.x, cell.max.x),
-            Interval::new(cell.min.y, cell.max.y),
-        );
-        if !self.at_origin {
-            dx = dx.sub_scalar(c.x);
-            dy = dy.sub_scalar(c.y);
-        }
-        let (u, v) = if self.aligned {
-            (dx, dy)
-        } else {
-            let r = self.pose.rotation();
-            (
-                dx.scale(r.cos).plus(dy.scale(r.sin)),
-                dx.scale(-r.sin).plus(dy.scale(r.cos)),
-            )
-        };
-        let s = self.shape.semi_axes();
         let [ex, ey] = self.exponents;
-        let hx = u.div_positive(s.x).abs_pow(ex);
-        let hy = v.div_positive(s.y).abs_pow(ey);
+        let hx = self.maps[0].enclose(cell).abs_pow(ex);
+        let hy = self.maps[1].enclose(cell).abs_pow(ey);
         hx.plus(hy).sub_scalar(1.0)
     }
 

@@ -34,6 +34,10 @@ impl Superellipse {
         self.semi_axes
     }
 
+    pub fn min_semi_axis(&self) -> f64 {
+        self.semi_axes.x.min(self.semi_axes.y)
+    }
+
     pub fn exponents(&self) -> [f64; 2] {
         self.exponents
     }
