@@ -23,3 +23,8 @@ pub mod io;
 pub mod render;
 pub mod shape;
 pub mod subdivision;
+
+/// The README's examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../README.md")]
+pub struct ReadmeDoctests;
