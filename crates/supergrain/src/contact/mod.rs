@@ -4,10 +4,12 @@
 //! gives `B2`, and `A1 -> B2` estimates the penetration of A into B (`a_push`, the way A should
 //! move to get out). `A2`, `B1` and `b_push` likewise for B.
 
+mod disk_disk;
 mod ray;
 mod superellipse_superellipse;
 mod superellipse_wall;
 
+pub use disk_disk::disk_disk;
 pub use ray::ray_to_boundary;
 pub use superellipse_superellipse::{contact, contact_with_cells};
 pub use superellipse_wall::{contact_wall, contact_wall_with_cells};

@@ -60,11 +60,13 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
     let found = deepest_points(&local_a, &local_b, &region, precision, true, sink);
     let penetration = match (found.in_a, found.in_b) {
         (Some(a1), Some(a2)) => {
-            let a_push = push_out(&local_b, a1.point, b.bounding_radius());
-            let b_push = push_out(&local_a, a2.point, a.bounding_radius());
+            let a1 = polish(&local_a, &local_b, a1.point, a.bounding_radius());
+            let a2 = polish(&local_b, &local_a, a2.point, b.bounding_radius());
+            let a_push = push_out(&local_b, a1, b.bounding_radius());
+            let b_push = push_out(&local_a, a2, a.bounding_radius());
             Some(Penetration {
-                a_deepest: pose_a.to_world(a1.point),
-                b_deepest: pose_a.to_world(a2.point),
+                a_deepest: pose_a.to_world(a1),
+                b_deepest: pose_a.to_world(a2),
                 a_push: pose_a.vector_to_world(a_push),
                 b_push: pose_a.vector_to_world(b_push),
             })
@@ -74,6 +76,31 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
     Contact {
         penetration,
         cells: found.cells,
+    }
+}
+
+/// Unless `own` holds `other`'s centre, the deepest point of `own` in `other` lies on `own`'s
+/// boundary (`f_other` grows along every ray from `other`'s centre, see [`crate::subdivision`]), while the quadtree's is a cell
+/// midpoint up to half a cell inside. Moving it along `grad f_own` to the boundary removes that
+/// error from the penetration estimate, which otherwise makes resting grains jitter by about a
+/// cell per step. Kept only when the moved point is still proven inside `other`.
+fn polish(
+    own: &PlacedSuperellipse,
+    other: &PlacedSuperellipse,
+    point: Vec2,
+    own_radius: f64,
+) -> Vec2 {
+    if own.enclose_point(other.pose().center()).lo <= 0.0 {
+        // `own` may hold `other`'s centre, which is then the deepest point: not on the boundary.
+        return point;
+    }
+    let on_boundary = point + push_out(own, point, own_radius);
+    // A hair inside, so that the proof of being inside `own` survives rounding.
+    let inside = point + (on_boundary - point) * (1.0 - 1e-9);
+    if own.enclose_point(inside).hi < 0.0 && other.enclose_point(inside).hi < 0.0 {
+        inside
+    } else {
+        point
     }
 }
 

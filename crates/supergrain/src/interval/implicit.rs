@@ -63,6 +63,13 @@ struct Affine {
     a: f64,
     b: f64,
     k: f64,
+    /// The size of the terms `k` was summed from, which bounds its rounding error even when
+    /// they cancel.
+    k_terms: f64,
+    /// For an axis-aligned shape: `(x - c) / s` along one axis, translated and scaled with
+    /// directed rounding, whose error is relative to the result (tight near the shape's axes,
+    /// which matters for exponents below 1).
+    aligned: Option<(usize, f64, f64)>,
 }
 
 impl Affine {
@@ -73,6 +80,16 @@ impl Affine {
     /// widening instead of one per operation keeps the hot loop short.
     #[inline(always)]
     fn enclose(&self, cell: &Aabb) -> Interval {
+        if let Some((axis, c, s)) = self.aligned {
+            let (lo, hi) = if axis == 0 {
+                (cell.min.x, cell.max.x)
+            } else {
+                (cell.min.y, cell.max.y)
+            };
+            let t = Interval::new(lo, hi);
+            let t = if c == 0.0 { t } else { t.sub_scalar(c) };
+            return t.div_positive(s);
+        }
         let (xl, xh) = if self.a >= 0.0 {
             (cell.min.x, cell.max.x)
         } else {
@@ -87,7 +104,7 @@ impl Affine {
         let hi = self.a * xh + self.b * yh + self.k;
         let m = self.a.abs() * cell.min.x.abs().max(cell.max.x.abs())
             + self.b.abs() * cell.min.y.abs().max(cell.max.y.abs())
-            + self.k.abs();
+            + self.k_terms;
         let err = 8.0 * f64::EPSILON * m + f64::MIN_POSITIVE;
         Interval::new(lo - err, hi + err)
     }
@@ -106,16 +123,19 @@ impl PlacedSuperellipse {
             pose.rotation()
         };
         // u = cos (x - cx) + sin (y - cy), v = -sin (x - cx) + cos (y - cy).
-        let map = |a: f64, b: f64, s: f64| Affine {
+        let aligned = r == Rotation::IDENTITY;
+        let map = |a: f64, b: f64, s: f64, axis: usize| Affine {
             a: a / s,
             b: b / s,
             k: -(a * c.x + b * c.y) / s,
+            k_terms: ((a * c.x).abs() + (b * c.y).abs()) / s,
+            aligned: aligned.then_some((axis, if axis == 0 { c.x } else { c.y }, s)),
         };
         PlacedSuperellipse {
             shape,
             pose,
             exponents: [Exponent::new(ex), Exponent::new(ey)],
-            maps: [map(r.cos, r.sin, s.x), map(-r.sin, r.cos, s.y)],
+            maps: [map(r.cos, r.sin, s.x, 0), map(-r.sin, r.cos, s.y, 1)],
         }
     }
 

@@ -45,7 +45,12 @@ impl Exponent {
             Exponent::Half => down(x.sqrt()),
             Exponent::Other(e) => down(down(x.powf(e))),
         };
-        r.clamp(0.0, f64::MAX)
+        // An overflowing power makes `down(inf)` NaN: the true value is then above f64::MAX.
+        if r.is_nan() {
+            f64::MAX
+        } else {
+            r.clamp(0.0, f64::MAX)
+        }
     }
 
     /// An upper bound of `x^e` for `x >= 0`.

@@ -235,11 +235,13 @@ where
         }
 
         // The midpoint is a candidate only when proven inside both. It is worth evaluating
-        // where that is likely: a cell inside one shape, or at the final precision.
+        // where that is likely (a cell inside one shape, or at the final precision) and, until
+        // some witness is found, everywhere: a star's centre may be the only point of the
+        // overlap that a coarse tree ever visits.
         let mid = cell.center();
         let (split_x, split_y) = splits(&cell);
         let last = !(split_x || split_y);
-        let pa = if last || fa.hi < 0.0 || fb.hi < 0.0 {
+        let pa = if last || fa.hi < 0.0 || fb.hi < 0.0 || found.in_a.is_none() {
             a.enclose_point(mid)
         } else {
             Interval::point(f64::INFINITY)

@@ -1,0 +1,398 @@
+//! Shape-wall contact (SPEC §4, paper III-B) against a densely sampled boundary.
+//!
+//! References, all written here:
+//! - the boundary, sampled so that consecutive samples are at most `h` apart; within a quadrant
+//!   the boundary is monotone in both local coordinates, so every boundary point lies within `h`
+//!   of a sample and the true extreme towards the wall is within `h` of the sampled one;
+//! - a disk certificate for "the quadtree must see this": a point `q` whose disk of radius
+//!   `rho` (the half-diagonal of a final cell) lies inside both the shape and the wall. The
+//!   final cell holding `q` then has its midpoint in that disk, inside both, so the quadtree
+//!   (which returns the deepest such midpoint) must report an overlap at least as deep as
+//!   `q` less `rho`. A bare "goes in by more than a cell" is not enough of a reference: a cusp
+//!   (exponent < 1) or a thin tip can go into the wall by many cells with no final midpoint
+//!   inside it.
+
+use std::f64::consts::{FRAC_PI_2, SQRT_2, TAU};
+
+use supergrain::contact::contact_wall;
+use supergrain::geometry::Vec2;
+use supergrain::shape::{HalfPlane, Pose, Superellipse};
+use supergrain::subdivision::Precision;
+
+/// SplitMix64: a small deterministic generator.
+struct Rng(u64);
+
+impl Rng {
+    fn new(seed: u64) -> Self {
+        Rng(seed)
+    }
+
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
+    fn below(&mut self, n: u64) -> u64 {
+        self.next_u64() % n
+    }
+}
+
+/// A placed superellipse as plain numbers.
+#[derive(Clone, Copy, Debug)]
+struct Shape {
+    s: [f64; 2],
+    e: [f64; 2],
+    c: [f64; 2],
+    angle: f64,
+}
+
+impl Shape {
+    /// `f(p) = |u/sx|^ex + |v/sy|^ey - 1`, `(u, v) = R(-angle)(p - c)`.
+    fn f(&self, p: [f64; 2]) -> f64 {
+        let (sn, cs) = self.angle.sin_cos();
+        let (dx, dy) = (p[0] - self.c[0], p[1] - self.c[1]);
+        let u = cs * dx + sn * dy;
+        let v = -sn * dx + cs * dy;
+        (u / self.s[0]).abs().powf(self.e[0]) + (v / self.s[1]).abs().powf(self.e[1]) - 1.0
+    }
+
+    /// The boundary point at parameter `t`.
+    fn boundary(&self, t: f64) -> [f64; 2] {
+        let (sn, cs) = t.sin_cos();
+        let g = |x: f64, e: f64| x.signum() * x.abs().powf(2.0 / e);
+        let (u, v) = (self.s[0] * g(cs, self.e[0]), self.s[1] * g(sn, self.e[1]));
+        let (sa, ca) = self.angle.sin_cos();
+        [self.c[0] + ca * u - sa * v, self.c[1] + sa * u + ca * v]
+    }
+
+    /// Boundary samples, consecutive ones at most `h` apart. The 256 starting pieces begin at
+    /// multiples of pi/2, so no piece straddles a quadrant.
+    fn samples(&self, h: f64) -> Vec<[f64; 2]> {
+        let mut out = Vec::new();
+        let n = 256;
+        for i in 0..n {
+            let (t0, t1) = (i as f64 * TAU / n as f64, (i + 1) as f64 * TAU / n as f64);
+            self.refine(t0, self.boundary(t0), t1, self.boundary(t1), h, 0, &mut out);
+        }
+        out
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn refine(
+        &self,
+        t0: f64,
+        p0: [f64; 2],
+        t1: f64,
+        p1: [f64; 2],
+        h: f64,
+        depth: u32,
+        out: &mut Vec<[f64; 2]>,
+    ) {
+        if (p0[0] - p1[0]).hypot(p0[1] - p1[1]) <= h || depth > 50 {
+            out.push(p0);
+            return;
+        }
+        let tm = 0.5 * (t0 + t1);
+        let pm = self.boundary(tm);
+        self.refine(t0, p0, tm, pm, h, depth + 1, out);
+        self.refine(tm, pm, t1, p1, h, depth + 1, out);
+    }
+
+    fn size(&self) -> f64 {
+        self.s[0].max(self.s[1])
+    }
+
+    /// The longest side of the box of the rotated `[-sx, sx] x [-sy, sy]` rectangle, which holds
+    /// the shape and every bounding box the library may compute for it.
+    fn rect_box_longest(&self) -> f64 {
+        let (sn, cs) = self.angle.sin_cos();
+        let (sn, cs) = (sn.abs(), cs.abs());
+        2.0 * (cs * self.s[0] + sn * self.s[1]).max(sn * self.s[0] + cs * self.s[1])
+    }
+
+    fn to_lib(self) -> (Superellipse, Pose) {
+        (
+            Superellipse::new(self.s, self.e).unwrap(),
+            Pose::new(Vec2::new(self.c[0], self.c[1]), self.angle).unwrap(),
+        )
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Side {
+    Floor,
+    Left,
+    Right,
+}
+
+/// A wall as plain numbers: `g(p) = n . p - d`, solid where `g < 0`; `n` points out of it.
+#[derive(Clone, Copy, Debug)]
+struct Wall {
+    n: [f64; 2],
+    d: f64,
+}
+
+impl Wall {
+    /// The wall of `side` whose surface is at `n . p = d`, and the library's.
+    fn new(side: Side, d: f64) -> (Wall, HalfPlane) {
+        match side {
+            Side::Floor => (Wall { n: [0.0, 1.0], d }, HalfPlane::floor(d).unwrap()),
+            Side::Left => (Wall { n: [1.0, 0.0], d }, HalfPlane::left(d).unwrap()),
+            // x_R - x = (-1, 0) . p - (-x_R): x_R = -d, exact.
+            Side::Right => (Wall { n: [-1.0, 0.0], d }, HalfPlane::right(-d).unwrap()),
+        }
+    }
+
+    fn along(&self, p: [f64; 2]) -> f64 {
+        self.n[0] * p[0] + self.n[1] * p[1]
+    }
+
+    fn g(&self, p: [f64; 2]) -> f64 {
+        self.along(p) - self.d
+    }
+
+    /// The unit tangent `(n_y, -n_x)`.
+    fn tangent(&self, p: [f64; 2]) -> f64 {
+        self.n[1] * p[0] - self.n[0] * p[1]
+    }
+
+    /// The point at tangent coordinate `a` and depth `z` into the wall.
+    fn point(&self, a: f64, z: f64) -> [f64; 2] {
+        let w = self.d - z;
+        [
+            self.n[1] * a + self.n[0] * w,
+            -self.n[0] * a + self.n[1] * w,
+        ]
+    }
+}
+
+/// The depth into the wall of the deepest grid point `q` whose disk of radius `r` lies inside
+/// the shape and the wall, as far as the samples (spacing `h`) prove it. `step` is the grid's
+/// spacing; `depth_max` is the sampled extreme's depth.
+fn deepest_disk(
+    sh: &Shape,
+    wall: &Wall,
+    samples: &[[f64; 2]],
+    h: f64,
+    r: f64,
+    step: f64,
+    depth_max: f64,
+) -> Option<f64> {
+    // Only samples in or near the wall can come within r + h of a point deeper than r.
+    let mut near: Vec<(f64, [f64; 2])> = samples
+        .iter()
+        .filter(|&&p| wall.g(p) < h)
+        .map(|&p| (wall.tangent(p), p))
+        .collect();
+    if near.is_empty() {
+        return None;
+    }
+    near.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let (a_lo, a_hi) = (near[0].0, near[near.len() - 1].0);
+    let clear = r + h;
+    let mut z = depth_max;
+    while z > r {
+        let mut a = a_lo;
+        while a <= a_hi {
+            let q = wall.point(a, z);
+            if sh.f(q) < 0.0 {
+                // The samples with tangent coordinate within `clear` of q's.
+                let start = near.partition_point(|s| s.0 < a - clear);
+                let free = near[start..]
+                    .iter()
+                    .take_while(|s| s.0 <= a + clear)
+                    .all(|s| (s.1[0] - q[0]).hypot(s.1[1] - q[1]) > clear);
+                if free {
+                    return Some(z);
+                }
+            }
+            a += step;
+        }
+        z -= step;
+    }
+    None
+}
+
+fn random_exponent(rng: &mut Rng) -> f64 {
+    match rng.below(8) {
+        0 => 0.5,
+        1 => 1.0,
+        2 => 2.0,
+        3 => 4.0,
+        4 => 8.0,
+        _ => rng.range(0.5, 8.0),
+    }
+}
+
+fn random_shape(rng: &mut Rng) -> Shape {
+    let big = rng.range(0.05, 3.0);
+    // Axis ratios up to 20: thin needles and slabs too.
+    let ratio = match rng.below(4) {
+        0 => 1.0,
+        1 => rng.range(10.0, 20.0),
+        _ => rng.range(1.0, 10.0),
+    };
+    let s = if rng.below(2) == 0 {
+        [big, big / ratio]
+    } else {
+        [big / ratio, big]
+    };
+    let angle = match rng.below(6) {
+        0 => 0.0,
+        1 => FRAC_PI_2 * rng.below(4) as f64,
+        _ => rng.range(-TAU, TAU),
+    };
+    Shape {
+        s,
+        e: [random_exponent(rng), random_exponent(rng)],
+        c: [rng.range(-5.0, 5.0), rng.range(-5.0, 5.0)],
+        angle,
+    }
+}
+
+/// How the cases came out, to check that each kind of assertion was exercised.
+#[derive(Default, Debug)]
+struct Tally {
+    apart: u32,
+    certified: u32,
+    overlaps: u32,
+}
+
+fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
+    let mut rng = Rng::new(seed);
+    let precision = Precision::default();
+    let mut tally = Tally::default();
+    for case in 0..cases {
+        let sh = random_shape(&mut rng);
+        let size = sh.size();
+        let h = size / 3000.0;
+        let samples = sh.samples(h);
+
+        // Where the wall is: the sampled extreme into it plus a chosen penetration.
+        let n = Wall::new(side, 0.0).0.n;
+        let extreme = samples
+            .iter()
+            .map(|p| n[0] * p[0] + n[1] * p[1])
+            .fold(f64::INFINITY, f64::min);
+        let target = if rng.below(5) == 0 {
+            rng.range(-0.02, 0.02) * size
+        } else {
+            rng.range(-0.1, 0.35) * size
+        };
+        let (wall, lib_wall) = Wall::new(side, extreme + target);
+        let depth_ref = wall.d - extreme;
+
+        let (shape, pose) = sh.to_lib();
+        let got = contact_wall(&shape, &pose, &lib_wall, &precision);
+
+        // The final cells' half-diagonal: the region is inside the shape's box, whose longest
+        // side is at most the rotated rectangle's.
+        let cell = sh.rect_box_longest() / f64::from(1u32 << precision.depth()) * (1.0 + 1e-6);
+        let rho = cell * SQRT_2 / 2.0;
+        let what = format!("case {case}, {side:?} at {}: {sh:?}", wall.d);
+
+        // Clear of the wall by more than the sampling error: no point of the shape is in the
+        // wall, and the overlap the library reports is a proof, so there must be none.
+        let tiny = 1e-12 * (1.0 + wall.d.abs() + size);
+        if depth_ref < -(h + tiny) {
+            tally.apart += 1;
+            assert!(
+                !got.overlap(),
+                "{what}: clear by {} yet overlap {got:?}",
+                -depth_ref
+            );
+        }
+
+        // A disk of radius rho (with a margin) inside both: the quadtree must see it.
+        let certified = deepest_disk(&sh, &wall, &samples, h, 1.05 * rho, 0.5 * rho, depth_ref);
+        if let Some(z) = certified {
+            tally.certified += 1;
+            assert!(
+                got.overlap(),
+                "{what}: a disk of radius {rho} at depth {z} is inside both, yet no overlap"
+            );
+        }
+
+        let Some(pen) = got.penetration else {
+            continue;
+        };
+        tally.overlaps += 1;
+        let p = pen.deepest.to_array();
+        let z = -wall.g(p);
+        assert!(sh.f(p) <= 1e-12, "{what}: deepest {p:?} outside the shape");
+        assert!(z > 0.0, "{what}: deepest {p:?} not in the wall");
+        // No deeper than the shape goes, and as deep as any certified point less a cell.
+        assert!(
+            z <= depth_ref + h + tiny,
+            "{what}: deepest at depth {z}, the shape only reaches {depth_ref}"
+        );
+        if let Some(zq) = certified {
+            assert!(
+                z >= zq - rho,
+                "{what}: deepest at depth {z}, but a final midpoint at depth >= {} is inside both",
+                zq - rho
+            );
+        }
+
+        // The push takes the deepest point exactly onto the wall's surface, along its normal.
+        let push = pen.push.to_array();
+        let landed = [p[0] + push[0], p[1] + push[1]];
+        let ulp = 4.0 * f64::EPSILON * (wall.d.abs() + z + p[0].abs().max(p[1].abs()));
+        assert!(
+            wall.g(landed).abs() <= ulp,
+            "{what}: deepest {p:?} + push {push:?} = {landed:?}, off the wall by {}",
+            wall.g(landed)
+        );
+        assert_eq!(
+            wall.tangent(push),
+            0.0,
+            "{what}: push {push:?} not perpendicular"
+        );
+        assert!(
+            wall.along(push) > 0.0,
+            "{what}: push {push:?} points into the wall"
+        );
+        assert!(
+            (wall.along(push) - z).abs() <= ulp,
+            "{what}: push {push:?} is not the depth {z}"
+        );
+    }
+    tally
+}
+
+fn check_tally(t: &Tally, cases: u32) {
+    // Each kind of assertion ran on a fair share of the cases.
+    assert!(
+        t.apart >= cases / 10 && t.certified >= cases / 3 && t.overlaps >= cases / 3,
+        "{t:?}"
+    );
+}
+
+#[test]
+fn floor_contact_matches_sampled_boundary() {
+    let t = run_side(Side::Floor, 41, 200);
+    check_tally(&t, 200);
+}
+
+#[test]
+fn left_wall_contact_matches_sampled_boundary() {
+    let t = run_side(Side::Left, 42, 200);
+    check_tally(&t, 200);
+}
+
+#[test]
+fn right_wall_contact_matches_sampled_boundary() {
+    let t = run_side(Side::Right, 43, 200);
+    check_tally(&t, 200);
+}
