@@ -5,8 +5,9 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use supergrain::bench::{ShapeClass, disk_disk, near_touching_pairs};
+use supergrain::bench::{ShapeClass, near_touching_pairs};
 use supergrain::contact::contact;
+use supergrain::contact::disk_disk;
 use supergrain::subdivision::Precision;
 
 const PAIRS: usize = 200;

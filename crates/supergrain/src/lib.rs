@@ -11,18 +11,24 @@
 //! | interval enclosures | [`interval`] | II-A |
 //! | quadtree narrow phase | [`subdivision`] | II |
 //! | deepest points, penetration | [`contact`] | III-A, III-B |
+//! | broad phase | [`broad_phase`] | III-A |
+//! | Verlet + projection | [`solver`] | III |
+//! | world, scenes, spawning | [`world`] | III, IV |
 //! | pictures | [`render`] | II-B |
 //! | JSON forms | [`io`] | |
 //! | benchmark scenes | [`bench`] | IV-A |
 
 pub mod bench;
+pub mod broad_phase;
 pub mod contact;
 pub mod geometry;
 pub mod interval;
 pub mod io;
 pub mod render;
 pub mod shape;
+pub mod solver;
 pub mod subdivision;
+pub mod world;
 
 /// The README's examples, compiled and run as doctests.
 #[cfg(doctest)]

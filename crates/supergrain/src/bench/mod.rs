@@ -7,7 +7,7 @@ use std::time::Instant;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::contact::contact;
+use crate::contact::{contact, disk_disk};
 use crate::geometry::Vec2;
 use crate::shape::{Pose, Superellipse};
 use crate::subdivision::Precision;
@@ -134,25 +134,6 @@ fn touching_distance(
         }
     }
     0.5 * (lo + hi)
-}
-
-/// The floor the paper compared against: disk-disk contact from the centre distance, giving the
-/// normal and the depth (paper IV-A).
-#[inline]
-pub fn disk_disk(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<(Vec2, f64)> {
-    let d = cb - ca;
-    let dist2 = d.dot(d);
-    let reach = ra + rb;
-    if dist2 >= reach * reach {
-        return None;
-    }
-    let dist = dist2.sqrt();
-    let normal = if dist > 0.0 {
-        d * (1.0 / dist)
-    } else {
-        Vec2::new(1.0, 0.0)
-    };
-    Some((normal, reach - dist))
 }
 
 /// One measured case.

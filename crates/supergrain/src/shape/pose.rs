@@ -22,6 +22,15 @@ impl Pose {
         })
     }
 
+    /// A pose from values already known to be finite (the solver's own state).
+    pub(crate) fn from_parts(center: Vec2, angle: f64) -> Self {
+        Pose {
+            center,
+            angle,
+            rotation: Rotation::new(angle),
+        }
+    }
+
     pub fn center(&self) -> Vec2 {
         self.center
     }

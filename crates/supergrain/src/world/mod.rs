@@ -1,0 +1,210 @@
+//! The world: grains in an open box, grains appearing at the top over time (paper III), and the
+//! solver stepping them. It knows nothing of pixels or files.
+
+mod scene;
+
+use std::collections::VecDeque;
+
+pub use scene::{Group, PRESETS, Range, Scene, SceneError};
+
+use rand::seq::SliceRandom;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::broad_phase::AllPairs;
+use crate::geometry::Vec2;
+use crate::shape::{Pose, Superellipse};
+use crate::solver::{
+    self, Body, Settings, StepStats, Walls, Workspace, grain_contact, wall_contact,
+};
+
+/// A grain waiting to appear: its shape and pose are drawn when the world is made, so a run
+/// depends only on the scene and its seed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pending {
+    pub shape: Superellipse,
+    pub x: f64,
+    pub angle: f64,
+    /// The first step at which it may appear.
+    pub due: u64,
+}
+
+/// Grains, walls, settings and the spawn queue.
+#[derive(Debug)]
+pub struct World {
+    pub bodies: Vec<Body>,
+    pub walls: Walls,
+    pub settings: Settings,
+    /// Steps done.
+    pub step: u64,
+    /// Height at which grains appear.
+    pub top: f64,
+    pub pending: VecDeque<Pending>,
+    broad: AllPairs,
+    work: Workspace,
+}
+
+impl World {
+    /// The world of a scene at step 0, its spawn queue drawn from the scene's seed.
+    pub fn new(scene: &Scene) -> World {
+        let mut rng = ChaCha8Rng::seed_from_u64(scene.seed);
+        let draw = |rng: &mut ChaCha8Rng, r: Range| {
+            if r.lo < r.hi {
+                rng.random_range(r.lo..=r.hi)
+            } else {
+                r.lo
+            }
+        };
+        let mut grains = Vec::new();
+        for g in &scene.groups {
+            for _ in 0..g.count {
+                let sx = draw(&mut rng, g.semi_axes[0]);
+                let sy = if g.circles {
+                    sx
+                } else {
+                    draw(&mut rng, g.semi_axes[1])
+                };
+                let ex = draw(&mut rng, g.exponents[0]);
+                let ey = if g.same_exponents {
+                    ex
+                } else {
+                    draw(&mut rng, g.exponents[1])
+                };
+                let angle = draw(&mut rng, g.angle);
+                let shape =
+                    Superellipse::new([sx, sy], [ex, ey]).expect("scene ranges are validated");
+                grains.push((shape, angle));
+            }
+        }
+        // Groups fall mixed, in an order fixed by the seed.
+        grains.shuffle(&mut rng);
+        let w = scene.walls;
+        let pending = grains
+            .into_iter()
+            .enumerate()
+            .map(|(k, (shape, angle))| {
+                // x uniform between the walls, the grain's box kept inside them.
+                let half = 0.5
+                    * shape
+                        .bounding_box(&Pose::from_parts(Vec2::ZERO, angle))
+                        .width();
+                let (lo, hi) = (w.left + half, w.right - half);
+                let x = if lo < hi {
+                    rng.random_range(lo..=hi)
+                } else {
+                    0.5 * (w.left + w.right)
+                };
+                Pending {
+                    shape,
+                    x,
+                    angle,
+                    due: k as u64 * u64::from(scene.spawn_interval),
+                }
+            })
+            .collect();
+        World {
+            bodies: Vec::new(),
+            walls: scene.walls,
+            settings: scene.settings,
+            step: 0,
+            top: scene.top,
+            pending,
+            broad: AllPairs,
+            work: Workspace::default(),
+        }
+    }
+
+    /// A world from its parts (a restart from a dump).
+    pub fn from_parts(
+        bodies: Vec<Body>,
+        walls: Walls,
+        settings: Settings,
+        step: u64,
+        top: f64,
+        pending: VecDeque<Pending>,
+    ) -> World {
+        World {
+            bodies,
+            walls,
+            settings,
+            step,
+            top,
+            pending,
+            broad: AllPairs,
+            work: Workspace::default(),
+        }
+    }
+
+    /// One step: due grains appear if their place is free, then the solver runs.
+    pub fn step(&mut self) -> StepStats {
+        self.spawn();
+        let stats = solver::step(
+            &mut self.bodies,
+            &self.walls,
+            &self.settings,
+            &mut self.broad,
+            &mut self.work,
+        );
+        self.step += 1;
+        stats
+    }
+
+    /// A new grain never appears inside another: a due grain whose place is taken waits.
+    fn spawn(&mut self) {
+        while let Some(p) = self.pending.front().copied() {
+            if p.due > self.step {
+                return;
+            }
+            let body = Body::at_rest(
+                p.shape,
+                &Pose::from_parts(Vec2::new(p.x, self.top), p.angle),
+            );
+            let bb = body.bounding_box();
+            let taken = self.bodies.iter().any(|o| {
+                o.bounding_box().intersects(&bb)
+                    && grain_contact(&self.settings, &body, o).overlap()
+            });
+            if taken {
+                return;
+            }
+            self.bodies.push(body);
+            self.pending.pop_front();
+        }
+    }
+
+    /// All grains have appeared.
+    pub fn all_spawned(&self) -> bool {
+        self.pending.is_empty()
+    }
+
+    /// The largest grain speed.
+    pub fn max_speed(&self) -> f64 {
+        self.bodies
+            .iter()
+            .map(|b| b.velocity(self.settings.step).norm())
+            .fold(0.0, f64::max)
+    }
+
+    /// The longest penetration vector among all overlapping pairs and grain-wall contacts.
+    pub fn deepest_penetration(&self) -> f64 {
+        let mut deepest = 0.0f64;
+        let walls = self.walls.half_planes();
+        for (i, a) in self.bodies.iter().enumerate() {
+            let ba = a.bounding_box();
+            for w in &walls {
+                if let Some(p) = wall_contact(&self.settings, a, w).penetration {
+                    deepest = deepest.max(p.push.norm());
+                }
+            }
+            for b in &self.bodies[i + 1..] {
+                if !ba.intersects(&b.bounding_box()) {
+                    continue;
+                }
+                if let Some(p) = grain_contact(&self.settings, a, b).penetration {
+                    deepest = deepest.max(p.a_push.norm()).max(p.b_push.norm());
+                }
+            }
+        }
+        deepest
+    }
+}

@@ -1,0 +1,461 @@
+//! Scenes: the box, the spawn rule, groups of grains, the solver settings, the seed and the
+//! number of steps; from a TOML file or one of the paper's four presets (paper IV, Figs. 10-13).
+
+use std::f64::consts::TAU;
+use std::fmt;
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::{Deserialize, Serialize};
+
+use crate::solver::{NarrowPhase, Rotation, Settings, Walls};
+use crate::subdivision::{MAX_DEPTH, Precision};
+
+/// A closed range `[lo, hi]` of values drawn uniformly, or one fixed value (`lo == hi`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Range {
+    pub lo: f64,
+    pub hi: f64,
+}
+
+impl Range {
+    pub const fn fixed(v: f64) -> Self {
+        Range { lo: v, hi: v }
+    }
+
+    pub const fn new(lo: f64, hi: f64) -> Self {
+        Range { lo, hi }
+    }
+}
+
+/// A group of grains drawn from the same ranges.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Group {
+    pub name: String,
+    pub count: u32,
+    /// Semi-axes; for circles both come from one draw.
+    pub semi_axes: [Range; 2],
+    pub circles: bool,
+    pub exponents: [Range; 2],
+    /// Both exponents from one draw (squircles), or independent (the mixed preset).
+    pub same_exponents: bool,
+    pub angle: Range,
+}
+
+/// A whole scene, validated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    pub seed: u64,
+    pub steps: u64,
+    pub walls: Walls,
+    /// Height at which grains appear.
+    pub top: f64,
+    /// Steps between two spawns.
+    pub spawn_interval: u32,
+    pub settings: Settings,
+    pub groups: Vec<Group>,
+}
+
+/// The paper's four scenes.
+pub const PRESETS: [&str; 4] = ["circles", "ellipses", "squircles", "mixed"];
+
+/// Why a scene cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    #[error("{0}")]
+    Toml(String),
+    #[error("line {line}: {message}")]
+    Invalid { line: usize, message: String },
+    #[error("unknown preset `{0}`; the presets are circles, ellipses, squircles and mixed")]
+    UnknownPreset(String),
+}
+
+impl Scene {
+    /// One of the paper's scenes (SPEC §5 table) in an 8 x 10 box, 3,000 steps.
+    pub fn preset(name: &str) -> Result<Scene, SceneError> {
+        let angle = Range::new(0.0, TAU);
+        let group = |count, semi_axes, circles, exponents, same_exponents| Group {
+            name: name.to_string(),
+            count,
+            semi_axes,
+            circles,
+            exponents,
+            same_exponents,
+            angle,
+        };
+        let two = [Range::fixed(2.0); 2];
+        let g = match name {
+            "circles" => group(35, [Range::new(0.3, 0.7); 2], true, two, true),
+            "ellipses" => group(
+                35,
+                [Range::new(0.1, 0.8), Range::new(0.1, 0.9)],
+                false,
+                two,
+                true,
+            ),
+            "squircles" => group(
+                40,
+                [Range::new(0.3, 0.4), Range::new(0.3, 0.7)],
+                false,
+                [Range::fixed(4.0); 2],
+                true,
+            ),
+            "mixed" => group(
+                40,
+                [Range::new(0.3, 0.4), Range::new(0.3, 0.7)],
+                false,
+                [Range::new(0.5, 4.0); 2],
+                false,
+            ),
+            other => return Err(SceneError::UnknownPreset(other.to_string())),
+        };
+        Ok(Scene {
+            seed: 1,
+            steps: 3000,
+            walls: Walls {
+                left: -4.0,
+                right: 4.0,
+                floor: 0.0,
+            },
+            top: 10.0,
+            spawn_interval: 20,
+            settings: Settings::default(),
+            groups: vec![g],
+        })
+    }
+
+    /// A scene from the text of a TOML file; errors name the line and the key.
+    pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text)
+            .map_err(|e| SceneError::Toml(e.to_string().trim_end().to_string()))?;
+        let line_of = |span: std::ops::Range<usize>| {
+            text[..span.start.min(text.len())].lines().count().max(1)
+        };
+        let invalid = |span: std::ops::Range<usize>, message: String| SceneError::Invalid {
+            line: line_of(span),
+            message,
+        };
+        let b = &file.bounds;
+        if b.left.get_ref().0 >= b.right.get_ref().0 {
+            return Err(invalid(
+                b.right.span(),
+                format!(
+                    "box: right ({}) must be greater than left ({})",
+                    b.right.get_ref().0,
+                    b.left.get_ref().0
+                ),
+            ));
+        }
+        if b.floor.get_ref().0 >= b.top.get_ref().0 {
+            return Err(invalid(
+                b.top.span(),
+                format!(
+                    "box: top ({}) must be above floor ({})",
+                    b.top.get_ref().0,
+                    b.floor.get_ref().0
+                ),
+            ));
+        }
+        let defaults = Settings::default();
+        let s = file.solver.unwrap_or_default();
+        let depth = s
+            .depth
+            .as_ref()
+            .map_or(defaults.precision.depth(), |d| *d.get_ref());
+        if depth > MAX_DEPTH {
+            let span = s.depth.as_ref().map_or(0..0, |d| d.span());
+            return Err(invalid(
+                span,
+                format!("solver: depth must be at most {MAX_DEPTH}, got {depth}"),
+            ));
+        }
+        if let Some(d) = &s.damping
+            && !(0.0..1.0).contains(d.get_ref())
+        {
+            return Err(invalid(
+                d.span(),
+                format!("solver: damping must be in [0, 1), got {}", d.get_ref()),
+            ));
+        }
+        let settings = Settings {
+            step: s.step.map_or(defaults.step, |v| v.0),
+            damping: s
+                .damping
+                .as_ref()
+                .map_or(defaults.damping, |v| *v.get_ref()),
+            gravity: s.gravity.map_or(defaults.gravity, |v| v.0),
+            max_iterations: s.max_iterations.unwrap_or(defaults.max_iterations),
+            precision: Precision::new(depth, s.eps.map_or(0.0, |v| v.0))
+                .map_err(|e| invalid(0..0, format!("solver: {e}")))?,
+            rotation: s.rotation.unwrap_or(defaults.rotation.into()).into(),
+            narrow_phase: s
+                .narrow_phase
+                .unwrap_or(defaults.narrow_phase.into())
+                .into(),
+        };
+        let mut groups = Vec::new();
+        for (k, g) in file.groups.iter().enumerate() {
+            let name = g.name.clone().unwrap_or_else(|| format!("group {}", k + 1));
+            let (semi_axes, circles) = match (&g.radius, &g.semi_axes) {
+                (Some(r), None) => ([r.0; 2], true),
+                (None, Some(s)) => ([s[0].0, s[1].0], false),
+                _ => {
+                    return Err(invalid(
+                        g.count.span(),
+                        format!(
+                            "group `{name}`: give either `radius` (circles) or `semi_axes`, not both or neither"
+                        ),
+                    ));
+                }
+            };
+            let (exponents, same_exponents) = match (&g.exponent, &g.exponents) {
+                (Some(e), None) => ([e.0; 2], true),
+                (None, Some(e)) => ([e[0].0, e[1].0], false),
+                (None, None) => ([Range::fixed(2.0); 2], true),
+                _ => {
+                    return Err(invalid(
+                        g.count.span(),
+                        format!(
+                            "group `{name}`: give `exponent` (both the same) or `exponents`, not both"
+                        ),
+                    ));
+                }
+            };
+            groups.push(Group {
+                name,
+                count: *g.count.get_ref(),
+                semi_axes,
+                circles,
+                exponents,
+                same_exponents,
+                angle: g.angle.map_or(Range::new(0.0, TAU), |a| a.0),
+            });
+        }
+        if settings.narrow_phase == NarrowPhase::Analytic
+            && let Some(g) = groups
+                .iter()
+                .find(|g| !g.circles || g.exponents != [Range::fixed(2.0); 2])
+        {
+            return Err(SceneError::Invalid {
+                line: 1,
+                message: format!(
+                    "narrow_phase = \"analytic\" needs circles only, but group `{}` is not",
+                    g.name
+                ),
+            });
+        }
+        Ok(Scene {
+            seed: file.seed.unwrap_or(1),
+            steps: file.steps.unwrap_or(3000),
+            walls: Walls {
+                left: b.left.get_ref().0,
+                right: b.right.get_ref().0,
+                floor: b.floor.get_ref().0,
+            },
+            top: b.top.get_ref().0,
+            spawn_interval: file.spawn.map_or(20, |s| s.interval),
+            settings,
+            groups,
+        })
+    }
+
+    /// The number of grains the scene will hold.
+    pub fn grain_count(&self) -> u64 {
+        self.groups.iter().map(|g| u64::from(g.count)).sum()
+    }
+}
+
+// ---- The file format ----
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    seed: Option<u64>,
+    steps: Option<u64>,
+    #[serde(rename = "box")]
+    bounds: BoxSpec,
+    spawn: Option<SpawnSpec>,
+    solver: Option<SolverSpec>,
+    #[serde(rename = "group", default)]
+    groups: Vec<GroupSpec>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BoxSpec {
+    left: toml::Spanned<Finite>,
+    right: toml::Spanned<Finite>,
+    floor: toml::Spanned<Finite>,
+    top: toml::Spanned<Finite>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+struct SpawnSpec {
+    interval: u32,
+}
+
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+struct SolverSpec {
+    step: Option<Positive>,
+    damping: Option<toml::Spanned<f64>>,
+    gravity: Option<NonNegative>,
+    max_iterations: Option<u32>,
+    depth: Option<toml::Spanned<u32>>,
+    eps: Option<NonNegative>,
+    rotation: Option<RotationSpec>,
+    narrow_phase: Option<NarrowPhaseSpec>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum RotationSpec {
+    Projection,
+    Inertia,
+}
+
+impl From<Rotation> for RotationSpec {
+    fn from(r: Rotation) -> Self {
+        match r {
+            Rotation::Projection => RotationSpec::Projection,
+            Rotation::Inertia => RotationSpec::Inertia,
+        }
+    }
+}
+
+impl From<RotationSpec> for Rotation {
+    fn from(r: RotationSpec) -> Self {
+        match r {
+            RotationSpec::Projection => Rotation::Projection,
+            RotationSpec::Inertia => Rotation::Inertia,
+        }
+    }
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum NarrowPhaseSpec {
+    Interval,
+    Analytic,
+}
+
+impl From<NarrowPhase> for NarrowPhaseSpec {
+    fn from(n: NarrowPhase) -> Self {
+        match n {
+            NarrowPhase::Interval => NarrowPhaseSpec::Interval,
+            NarrowPhase::Analytic => NarrowPhaseSpec::Analytic,
+        }
+    }
+}
+
+impl From<NarrowPhaseSpec> for NarrowPhase {
+    fn from(n: NarrowPhaseSpec) -> Self {
+        match n {
+            NarrowPhaseSpec::Interval => NarrowPhase::Interval,
+            NarrowPhaseSpec::Analytic => NarrowPhase::Analytic,
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GroupSpec {
+    name: Option<String>,
+    count: toml::Spanned<u32>,
+    radius: Option<PositiveRange>,
+    semi_axes: Option<[PositiveRange; 2]>,
+    exponent: Option<PositiveRange>,
+    exponents: Option<[PositiveRange; 2]>,
+    angle: Option<FiniteRange>,
+}
+
+/// Numbers checked while parsing, so that the TOML error points at the offending value.
+macro_rules! checked_number {
+    ($name:ident, $what:literal, $ok:expr) => {
+        #[derive(Clone, Copy, Debug)]
+        struct $name(f64);
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                let v = f64::deserialize(d)?;
+                let ok: fn(f64) -> bool = $ok;
+                if ok(v) {
+                    Ok($name(v))
+                } else {
+                    Err(de::Error::custom(format!(
+                        concat!("expected ", $what, ", got {}"),
+                        v
+                    )))
+                }
+            }
+        }
+    };
+}
+
+checked_number!(Positive, "a finite number > 0", |v| v.is_finite()
+    && v > 0.0);
+checked_number!(NonNegative, "a finite number >= 0", |v| v.is_finite()
+    && v >= 0.0);
+checked_number!(Finite, "a finite number", |v| v.is_finite());
+
+/// A number or `[lo, hi]`, each end checked.
+macro_rules! checked_range {
+    ($name:ident, $what:literal, $ok:expr) => {
+        #[derive(Clone, Copy, Debug)]
+        struct $name(Range);
+
+        impl<'de> Deserialize<'de> for $name {
+            fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                struct V;
+                impl<'de> Visitor<'de> for V {
+                    type Value = Range;
+                    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                        write!(f, concat!($what, ", or a range [lo, hi] of them"))
+                    }
+                    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Range, E> {
+                        check::<E>(v).map(Range::fixed)
+                    }
+                    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Range, E> {
+                        self.visit_f64(v as f64)
+                    }
+                    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Range, A::Error> {
+                        let lo: f64 = seq.next_element()?.ok_or_else(|| {
+                            de::Error::custom("a range needs two numbers [lo, hi]")
+                        })?;
+                        let hi: f64 = seq.next_element()?.ok_or_else(|| {
+                            de::Error::custom("a range needs two numbers [lo, hi]")
+                        })?;
+                        if seq.next_element::<f64>()?.is_some() {
+                            return Err(de::Error::custom(
+                                "a range has exactly two numbers [lo, hi]",
+                            ));
+                        }
+                        let (lo, hi) = (check::<A::Error>(lo)?, check::<A::Error>(hi)?);
+                        if lo > hi {
+                            return Err(de::Error::custom(format!(
+                                "range [{lo}, {hi}] is empty: lo > hi"
+                            )));
+                        }
+                        Ok(Range::new(lo, hi))
+                    }
+                }
+                fn check<E: de::Error>(v: f64) -> Result<f64, E> {
+                    let ok: fn(f64) -> bool = $ok;
+                    if ok(v) {
+                        Ok(v)
+                    } else {
+                        Err(E::custom(format!(
+                            concat!("expected ", $what, ", got {}"),
+                            v
+                        )))
+                    }
+                }
+                d.deserialize_any(V).map($name)
+            }
+        }
+    };
+}
+
+checked_range!(PositiveRange, "a finite number > 0", |v| v.is_finite()
+    && v > 0.0);
+checked_range!(FiniteRange, "a finite number", |v| v.is_finite());
