@@ -4,6 +4,7 @@
 mod bench;
 mod contact;
 mod output;
+mod run;
 
 use std::process::ExitCode;
 
@@ -25,6 +26,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Pour grains into the box: a scene file, one of the paper's presets, or a dump to resume.
+    Run(run::Args),
     /// Test two superellipses for contact: deepest points and penetration vectors.
     Contact(contact::Args),
     /// Measure performance and print a table (or JSON).
@@ -35,6 +38,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Run(args) => run::run(args),
         Command::Contact(args) => contact::run(args),
         Command::Bench(b) => bench::run(b),
     };

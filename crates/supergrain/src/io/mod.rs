@@ -1,6 +1,10 @@
-//! The JSON forms of shapes and contact queries, shared by every command that reads or writes
-//! them.
+//! Files: the JSON forms of shapes, contact queries and state dumps, trajectory CSV and VTK
+//! frames, shared by every command that reads or writes them.
 
+mod dump;
+mod frames;
 mod json;
 
+pub use dump::{Dump, DumpError, ParticleJson, PendingJson, SolverJson, WallsJson};
+pub use frames::{TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
 pub use json::{ContactAnswer, ContactQuery, QueryError, ShapeJson};

@@ -41,11 +41,6 @@ impl Body {
         Pose::from_parts(self.center, self.angle)
     }
 
-    /// The velocity over the last step.
-    pub fn velocity(&self, step: f64) -> Vec2 {
-        (self.center - self.previous_center) * (1.0 / step)
-    }
-
     pub fn bounding_box(&self) -> Aabb {
         self.shape.bounding_box(&self.pose())
     }

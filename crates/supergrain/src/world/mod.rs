@@ -40,6 +40,8 @@ pub struct World {
     /// Height at which grains appear.
     pub top: f64,
     pub pending: VecDeque<Pending>,
+    /// Where each grain was when the last step began (see [`World::velocity`]).
+    step_start: Vec<Vec2>,
     broad: AllPairs,
     work: Workspace,
 }
@@ -109,6 +111,7 @@ impl World {
             step: 0,
             top: scene.top,
             pending,
+            step_start: Vec::new(),
             broad: AllPairs,
             work: Workspace::default(),
         }
@@ -124,6 +127,7 @@ impl World {
         pending: VecDeque<Pending>,
     ) -> World {
         World {
+            step_start: bodies.iter().map(|b| b.center).collect(),
             bodies,
             walls,
             settings,
@@ -138,6 +142,8 @@ impl World {
     /// One step: due grains appear if their place is free, then the solver runs.
     pub fn step(&mut self) -> StepStats {
         self.spawn();
+        self.step_start.clear();
+        self.step_start.extend(self.bodies.iter().map(|b| b.center));
         let stats = solver::step(
             &mut self.bodies,
             &self.walls,
@@ -177,11 +183,24 @@ impl World {
         self.pending.is_empty()
     }
 
-    /// The largest grain speed.
+    /// The velocity of grain `i` over the last step: its displacement from where the step began.
+    ///
+    /// Not the solver's `center - previous_center`: grains are handled one after another, so a
+    /// grain resting in a heap is pushed down by those handled before it and back up after its
+    /// own update, and that internal back-and-forth would read as motion.
+    pub fn velocity(&self, i: usize) -> Vec2 {
+        let start = self
+            .step_start
+            .get(i)
+            .copied()
+            .unwrap_or(self.bodies[i].center);
+        (self.bodies[i].center - start) * (1.0 / self.settings.step)
+    }
+
+    /// The largest grain speed over the last step.
     pub fn max_speed(&self) -> f64 {
-        self.bodies
-            .iter()
-            .map(|b| b.velocity(self.settings.step).norm())
+        (0..self.bodies.len())
+            .map(|i| self.velocity(i).norm())
             .fold(0.0, f64::max)
     }
 

@@ -65,6 +65,8 @@ pub enum SceneError {
     Toml(String),
     #[error("line {line}: {message}")]
     Invalid { line: usize, message: String },
+    #[error("the analytic narrow phase needs circles only, but group `{0}` is not circles")]
+    NotCircles(String),
     #[error("unknown preset `{0}`; the presets are circles, ellipses, squircles and mixed")]
     UnknownPreset(String),
 }
@@ -230,20 +232,7 @@ impl Scene {
                 angle: g.angle.map_or(Range::new(0.0, TAU), |a| a.0),
             });
         }
-        if settings.narrow_phase == NarrowPhase::Analytic
-            && let Some(g) = groups
-                .iter()
-                .find(|g| !g.circles || g.exponents != [Range::fixed(2.0); 2])
-        {
-            return Err(SceneError::Invalid {
-                line: 1,
-                message: format!(
-                    "narrow_phase = \"analytic\" needs circles only, but group `{}` is not",
-                    g.name
-                ),
-            });
-        }
-        Ok(Scene {
+        let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
             walls: Walls {
@@ -255,7 +244,22 @@ impl Scene {
             spawn_interval: file.spawn.map_or(20, |s| s.interval),
             settings,
             groups,
-        })
+        };
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Checks what the parts cannot check alone: the analytic narrow phase needs circles only.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if self.settings.narrow_phase == NarrowPhase::Analytic
+            && let Some(g) = self
+                .groups
+                .iter()
+                .find(|g| !g.circles || g.exponents != [Range::fixed(2.0); 2])
+        {
+            return Err(SceneError::NotCircles(g.name.clone()));
+        }
+        Ok(())
     }
 
     /// The number of grains the scene will hold.

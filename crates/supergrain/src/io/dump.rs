@@ -1,0 +1,267 @@
+//! The state dump: `{"walls": {...}, "particles": [...]}` with each particle in the SHAPE form
+//! plus its velocity, and, for exact restarts, the solver state the velocity cannot carry
+//! (previous pose, step, settings, grains still to appear).
+
+use std::collections::VecDeque;
+
+use serde::{Deserialize, Serialize};
+
+use super::ShapeJson;
+use crate::geometry::Vec2;
+use crate::shape::{Pose, ShapeError, Superellipse};
+use crate::solver::{Body, NarrowPhase, Rotation, Settings, Walls};
+use crate::subdivision::Precision;
+use crate::world::{Pending, World};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallsJson {
+    pub left: f64,
+    pub right: f64,
+    pub floor: f64,
+}
+
+/// One grain of a dump.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParticleJson {
+    pub center: [f64; 2],
+    pub angle: f64,
+    pub semi_axes: [f64; 2],
+    pub exponents: [f64; 2],
+    pub velocity: [f64; 2],
+    /// Verlet's previous position; when absent, `center - velocity * step`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub previous_center: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub previous_angle: Option<f64>,
+}
+
+/// A grain that has not appeared yet.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PendingJson {
+    pub semi_axes: [f64; 2],
+    pub exponents: [f64; 2],
+    pub x: f64,
+    pub angle: f64,
+    pub due: u64,
+}
+
+/// The solver settings, as in a scene file's `[solver]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverJson {
+    pub step: f64,
+    pub damping: f64,
+    pub gravity: f64,
+    pub max_iterations: u32,
+    pub depth: u32,
+    pub eps: f64,
+    pub rotation: String,
+    pub narrow_phase: String,
+}
+
+/// A whole dump.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Dump {
+    pub walls: WallsJson,
+    pub particles: Vec<ParticleJson>,
+    /// Steps done (absent in a hand-written state: 0).
+    #[serde(default)]
+    pub step: u64,
+    /// Height at which grains appear.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub top: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<SolverJson>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pending: Vec<PendingJson>,
+}
+
+/// Why a dump cannot be resumed.
+#[derive(Debug, thiserror::Error)]
+pub enum DumpError {
+    #[error("particle {index}: {source}")]
+    Particle { index: usize, source: ShapeError },
+    #[error("pending grain {index}: {source}")]
+    Pending { index: usize, source: ShapeError },
+    #[error("walls: {0}")]
+    Walls(String),
+    #[error("solver: {0}")]
+    Solver(String),
+    #[error("particle {0}: a number is not finite")]
+    NotFinite(usize),
+}
+
+impl Dump {
+    /// The state of a world.
+    pub fn of(world: &World) -> Dump {
+        let s = &world.settings;
+        Dump {
+            walls: WallsJson {
+                left: world.walls.left,
+                right: world.walls.right,
+                floor: world.walls.floor,
+            },
+            particles: world
+                .bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| {
+                    let shape = ShapeJson::from_shape(&b.shape, &b.pose());
+                    ParticleJson {
+                        center: shape.center,
+                        angle: shape.angle,
+                        semi_axes: shape.semi_axes,
+                        exponents: shape.exponents,
+                        velocity: world.velocity(i).to_array(),
+                        previous_center: Some(b.previous_center.to_array()),
+                        previous_angle: Some(b.previous_angle),
+                    }
+                })
+                .collect(),
+            step: world.step,
+            top: Some(world.top),
+            solver: Some(SolverJson {
+                step: s.step,
+                damping: s.damping,
+                gravity: s.gravity,
+                max_iterations: s.max_iterations,
+                depth: s.precision.depth(),
+                eps: s.precision.eps(),
+                rotation: match s.rotation {
+                    Rotation::Projection => "projection",
+                    Rotation::Inertia => "inertia",
+                }
+                .into(),
+                narrow_phase: match s.narrow_phase {
+                    NarrowPhase::Interval => "interval",
+                    NarrowPhase::Analytic => "analytic",
+                }
+                .into(),
+            }),
+            pending: world
+                .pending
+                .iter()
+                .map(|p| PendingJson {
+                    semi_axes: p.shape.semi_axes().to_array(),
+                    exponents: p.shape.exponents(),
+                    x: p.x,
+                    angle: p.angle,
+                    due: p.due,
+                })
+                .collect(),
+        }
+    }
+
+    /// The world this dump describes, ready to go on.
+    pub fn to_world(&self) -> Result<World, DumpError> {
+        let w = &self.walls;
+        if !(w.left.is_finite() && w.right.is_finite() && w.floor.is_finite() && w.left < w.right) {
+            return Err(DumpError::Walls(format!(
+                "left ({}) must be left of right ({}), all finite",
+                w.left, w.right
+            )));
+        }
+        let settings = match &self.solver {
+            None => Settings::default(),
+            Some(s) => Settings {
+                step: positive("step", s.step)?,
+                damping: if (0.0..1.0).contains(&s.damping) {
+                    s.damping
+                } else {
+                    return Err(DumpError::Solver(format!(
+                        "damping must be in [0, 1), got {}",
+                        s.damping
+                    )));
+                },
+                gravity: s.gravity,
+                max_iterations: s.max_iterations,
+                precision: Precision::new(s.depth, s.eps)
+                    .map_err(|e| DumpError::Solver(e.to_string()))?,
+                rotation: match s.rotation.as_str() {
+                    "projection" => Rotation::Projection,
+                    "inertia" => Rotation::Inertia,
+                    other => {
+                        return Err(DumpError::Solver(format!(
+                            "rotation must be projection or inertia, got {other}"
+                        )));
+                    }
+                },
+                narrow_phase: match s.narrow_phase.as_str() {
+                    "interval" => NarrowPhase::Interval,
+                    "analytic" => NarrowPhase::Analytic,
+                    other => {
+                        return Err(DumpError::Solver(format!(
+                            "narrow_phase must be interval or analytic, got {other}"
+                        )));
+                    }
+                },
+            },
+        };
+        let mut bodies = Vec::with_capacity(self.particles.len());
+        for (index, p) in self.particles.iter().enumerate() {
+            let shape = Superellipse::new(p.semi_axes, p.exponents)
+                .map_err(|source| DumpError::Particle { index, source })?;
+            let pose = Pose::new(Vec2::from(p.center), p.angle)
+                .map_err(|source| DumpError::Particle { index, source })?;
+            let v = Vec2::from(p.velocity);
+            let body = Body {
+                shape,
+                center: pose.center(),
+                angle: pose.angle(),
+                previous_center: p
+                    .previous_center
+                    .map_or(pose.center() - v * settings.step, Vec2::from),
+                previous_angle: p.previous_angle.unwrap_or(pose.angle()),
+            };
+            if !body.is_finite() || !v.is_finite() {
+                return Err(DumpError::NotFinite(index));
+            }
+            bodies.push(body);
+        }
+        let mut pending = VecDeque::with_capacity(self.pending.len());
+        for (index, p) in self.pending.iter().enumerate() {
+            let shape = Superellipse::new(p.semi_axes, p.exponents)
+                .map_err(|source| DumpError::Pending { index, source })?;
+            Pose::new(Vec2::new(p.x, 0.0), p.angle)
+                .map_err(|source| DumpError::Pending { index, source })?;
+            pending.push_back(Pending {
+                shape,
+                x: p.x,
+                angle: p.angle,
+                due: p.due,
+            });
+        }
+        let top = self.top.unwrap_or_else(|| {
+            bodies
+                .iter()
+                .map(|b| b.bounding_box().max.y)
+                .fold(w.floor + 1.0, f64::max)
+        });
+        Ok(World::from_parts(
+            bodies,
+            Walls {
+                left: w.left,
+                right: w.right,
+                floor: w.floor,
+            },
+            settings,
+            self.step,
+            top,
+            pending,
+        ))
+    }
+}
+
+fn positive(name: &str, v: f64) -> Result<f64, DumpError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(DumpError::Solver(format!(
+            "{name} must be a finite number > 0, got {v}"
+        )))
+    }
+}

@@ -1,0 +1,78 @@
+//! Per-frame outputs: trajectory rows (CSV) and VTK point files for ParaView.
+
+use std::io::{self, Write};
+
+use crate::world::World;
+
+/// The trajectory CSV header: one row per grain and frame.
+pub const TRAJECTORY_HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey";
+
+/// Appends one frame of the trajectory: a row per grain, `id` its order of appearance.
+pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
+    let time = world.step as f64 * world.settings.step;
+    for (i, b) in world.bodies.iter().enumerate() {
+        let v = world.velocity(i);
+        let s = b.shape.semi_axes();
+        let [ex, ey] = b.shape.exponents();
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            world.step, time, i, b.center.x, b.center.y, b.angle, v.x, v.y, s.x, s.y, ex, ey
+        )?;
+    }
+    Ok(())
+}
+
+/// One frame as a legacy-format VTK point file: grain centres as points, with the semi-axes,
+/// exponents, superquadric roundness (2 / exponent), angle and velocity as point data, so that
+/// ParaView can glyph them (see the README).
+pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
+    let n = world.bodies.len();
+    writeln!(out, "# vtk DataFile Version 3.0")?;
+    writeln!(out, "supergrain step {}", world.step)?;
+    writeln!(out, "ASCII")?;
+    writeln!(out, "DATASET POLYDATA")?;
+    writeln!(out, "POINTS {n} double")?;
+    for b in &world.bodies {
+        writeln!(out, "{} {} 0", b.center.x, b.center.y)?;
+    }
+    writeln!(out, "VERTICES {n} {}", 2 * n)?;
+    for i in 0..n {
+        writeln!(out, "1 {i}")?;
+    }
+    writeln!(out, "POINT_DATA {n}")?;
+    // Three components: ParaView's glyph scale wants 3-vectors; z is a nominal thickness.
+    writeln!(out, "VECTORS semi_axes double")?;
+    for b in &world.bodies {
+        let s = b.shape.semi_axes();
+        writeln!(out, "{} {} {}", s.x, s.y, s.x.min(s.y))?;
+    }
+    writeln!(out, "VECTORS velocity double")?;
+    for i in 0..n {
+        let v = world.velocity(i);
+        writeln!(out, "{} {} 0", v.x, v.y)?;
+    }
+    for (name, f) in [
+        ("exponent_x", (|e: [f64; 2]| e[0]) as fn([f64; 2]) -> f64),
+        ("exponent_y", |e| e[1]),
+        ("roundness_x", |e| 2.0 / e[0]),
+        ("roundness_y", |e| 2.0 / e[1]),
+    ] {
+        writeln!(out, "SCALARS {name} double 1")?;
+        writeln!(out, "LOOKUP_TABLE default")?;
+        for b in &world.bodies {
+            writeln!(out, "{}", f(b.shape.exponents()))?;
+        }
+    }
+    writeln!(out, "SCALARS angle double 1")?;
+    writeln!(out, "LOOKUP_TABLE default")?;
+    for b in &world.bodies {
+        writeln!(out, "{}", b.angle)?;
+    }
+    writeln!(out, "SCALARS angle_degrees double 1")?;
+    writeln!(out, "LOOKUP_TABLE default")?;
+    for b in &world.bodies {
+        writeln!(out, "{}", b.angle.to_degrees())?;
+    }
+    Ok(())
+}
