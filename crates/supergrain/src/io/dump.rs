@@ -56,6 +56,7 @@ pub struct SolverJson {
     pub damping: f64,
     pub gravity: f64,
     pub max_iterations: u32,
+    pub slop: f64,
     pub depth: u32,
     pub eps: f64,
     pub rotation: String,
@@ -129,6 +130,7 @@ impl Dump {
                 damping: s.damping,
                 gravity: s.gravity,
                 max_iterations: s.max_iterations,
+                slop: s.slop,
                 depth: s.precision.depth(),
                 eps: s.precision.eps(),
                 rotation: match s.rotation {
@@ -179,6 +181,14 @@ impl Dump {
                 },
                 gravity: s.gravity,
                 max_iterations: s.max_iterations,
+                slop: if s.slop.is_finite() && s.slop >= 0.0 {
+                    s.slop
+                } else {
+                    return Err(DumpError::Solver(format!(
+                        "slop must be a finite number >= 0, got {}",
+                        s.slop
+                    )));
+                },
                 precision: Precision::new(s.depth, s.eps)
                     .map_err(|e| DumpError::Solver(e.to_string()))?,
                 rotation: match s.rotation.as_str() {

@@ -186,6 +186,7 @@ impl Scene {
                 .map_or(defaults.damping, |v| *v.get_ref()),
             gravity: s.gravity.map_or(defaults.gravity, |v| v.0),
             max_iterations: s.max_iterations.unwrap_or(defaults.max_iterations),
+            slop: s.slop.map_or(defaults.slop, |v| v.0),
             precision: Precision::new(depth, s.eps.map_or(0.0, |v| v.0))
                 .map_err(|e| invalid(0..0, format!("solver: {e}")))?,
             rotation: s.rotation.unwrap_or(defaults.rotation.into()).into(),
@@ -305,6 +306,7 @@ struct SolverSpec {
     damping: Option<toml::Spanned<f64>>,
     gravity: Option<NonNegative>,
     max_iterations: Option<u32>,
+    slop: Option<NonNegative>,
     depth: Option<toml::Spanned<u32>>,
     eps: Option<NonNegative>,
     rotation: Option<RotationSpec>,
