@@ -155,9 +155,12 @@ impl World {
         stats
     }
 
-    /// A new grain never appears inside another: a due grain whose place is taken waits.
+    /// A new grain never appears inside another: a due grain whose place is taken waits, and
+    /// the grains due after it whose places are free appear meanwhile, in queue order.
     fn spawn(&mut self) {
-        while let Some(p) = self.pending.front().copied() {
+        let mut k = 0;
+        while k < self.pending.len() {
+            let p = self.pending[k];
             if p.due > self.step {
                 return;
             }
@@ -171,10 +174,11 @@ impl World {
                     && grain_contact(&self.settings, &body, o).overlap()
             });
             if taken {
-                return;
+                k += 1;
+            } else {
+                self.bodies.push(body);
+                self.pending.remove(k);
             }
-            self.bodies.push(body);
-            self.pending.pop_front();
         }
     }
 
