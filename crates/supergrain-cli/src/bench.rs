@@ -13,6 +13,20 @@ pub enum Bench {
     /// for circles, ellipses, exponent-4 shapes and mixed exponents in [0.5, 4], and the
     /// centre-distance test for circles as the floor, all in one run.
     Contact(ContactArgs),
+    /// Whole simulation: the paper's four scenes through the interval narrow phase and the
+    /// circles through the centre-distance test (the paper's comparison), in one run; the
+    /// ratio column is each run's time over the analytic circles'.
+    Presets(PresetArgs),
+}
+
+#[derive(Parser)]
+pub struct PresetArgs {
+    /// Steps per scene (the presets pour and settle in about 3000).
+    #[arg(long, default_value_t = 3000)]
+    steps: u64,
+    /// Print {"cases": [...]} instead of a table.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(Parser)]
@@ -37,7 +51,43 @@ pub struct ContactArgs {
 pub fn run(b: Bench) -> Result<ExitCode> {
     match b {
         Bench::Contact(args) => contact(args),
+        Bench::Presets(args) => presets(args),
     }
+}
+
+fn presets(args: PresetArgs) -> Result<ExitCode> {
+    let cases = supergrain::bench::preset_cases(args.steps);
+    if args.json {
+        let cases: Vec<_> = cases
+            .iter()
+            .map(|c| {
+                serde_json::json!({
+                    "name": c.name, "steps": c.steps, "grains": c.grains, "seconds": c.seconds,
+                    "steps_per_second": c.steps_per_second, "contacts_per_step": c.contacts_per_step,
+                })
+            })
+            .collect();
+        println!("{}", serde_json::json!({ "cases": cases }));
+        return Ok(ExitCode::SUCCESS);
+    }
+    let floor = cases.last().map_or(f64::NAN, |c| c.seconds);
+    println!(
+        "{:<28} {:>7} {:>7} {:>10} {:>10} {:>14} {:>10}",
+        "scene", "grains", "steps", "seconds", "steps/s", "contacts/step", "x analytic"
+    );
+    for c in &cases {
+        println!(
+            "{:<28} {:>7} {:>7} {:>10.2} {:>10.1} {:>14.1} {:>10.1}",
+            c.name,
+            c.grains,
+            c.steps,
+            c.seconds,
+            c.steps_per_second,
+            c.contacts_per_step,
+            c.seconds / floor
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn contact(args: ContactArgs) -> Result<ExitCode> {

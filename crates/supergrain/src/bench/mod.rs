@@ -1,5 +1,6 @@
-//! Benchmark scenes for the narrow phase: near-touching random pairs of the paper's shape
-//! classes (paper IV), shared by the criterion benches and `supergrain bench contact`.
+//! Benchmark scenes: near-touching random pairs of the paper's shape classes for the narrow
+//! phase (paper IV), shared by the criterion benches and `supergrain bench contact`, and the
+//! paper's four scenes for the whole simulation (`supergrain bench presets`).
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -231,4 +232,45 @@ pub fn contact_cases(
         cells_per_pair: 0.0,
     });
     out
+}
+
+/// One preset run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PresetResult {
+    pub name: String,
+    pub steps: u64,
+    pub grains: usize,
+    pub seconds: f64,
+    pub steps_per_second: f64,
+    pub contacts_per_step: f64,
+}
+
+/// The paper's four scenes through the interval narrow phase, then the circles through the
+/// centre-distance test (the paper's comparison, IV-A), `steps` steps each, in one run.
+pub fn preset_cases(steps: u64) -> Vec<PresetResult> {
+    use crate::solver::NarrowPhase;
+    use crate::world::{Scene, World};
+    let mut runs: Vec<(String, Scene)> = crate::world::PRESETS
+        .iter()
+        .map(|name| (name.to_string(), Scene::preset(name).expect("a preset")))
+        .collect();
+    let mut analytic = Scene::preset("circles").expect("a preset");
+    analytic.settings.narrow_phase = NarrowPhase::Analytic;
+    runs.push(("circles (analytic, floor)".into(), analytic));
+    runs.into_iter()
+        .map(|(name, scene)| {
+            let mut world = World::new(&scene);
+            let start = Instant::now();
+            let contacts: usize = (0..steps).map(|_| world.step().contacts).sum();
+            let seconds = start.elapsed().as_secs_f64();
+            PresetResult {
+                name,
+                steps,
+                grains: world.bodies.len(),
+                seconds,
+                steps_per_second: steps as f64 / seconds.max(1e-9),
+                contacts_per_step: contacts as f64 / steps.max(1) as f64,
+            }
+        })
+        .collect()
 }

@@ -24,8 +24,8 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
 }
 
 /// One frame as a legacy-format VTK point file: grain centres as points, with the semi-axes,
-/// exponents, superquadric roundness (2 / exponent), angle and velocity as point data, so that
-/// ParaView can glyph them (see the README).
+/// the local x axis, exponents, superquadric roundness (2 / exponent), angle and velocity as
+/// point data, so that ParaView can glyph them (see the README).
 pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let n = world.bodies.len();
     writeln!(out, "# vtk DataFile Version 3.0")?;
@@ -46,6 +46,11 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     for b in &world.bodies {
         let s = b.shape.semi_axes();
         writeln!(out, "{} {} {}", s.x, s.y, s.x.min(s.y))?;
+    }
+    // The grain's local x axis, for ParaView's Glyph orientation.
+    writeln!(out, "VECTORS axis double")?;
+    for b in &world.bodies {
+        writeln!(out, "{} {} 0", b.angle.cos(), b.angle.sin())?;
     }
     writeln!(out, "VECTORS velocity double")?;
     for i in 0..n {
