@@ -26,6 +26,12 @@ impl Output {
     pub fn open(path: Option<&Path>) -> Result<Self> {
         let sink = match path {
             Some(target) if target.as_os_str() != "-" => {
+                if target.is_dir() {
+                    anyhow::bail!(
+                        "cannot write output file {}: it is a folder",
+                        target.display()
+                    );
+                }
                 let name = target
                     .file_name()
                     .with_context(|| format!("output path {} names no file", target.display()))?;

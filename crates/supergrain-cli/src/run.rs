@@ -181,10 +181,15 @@ fn load(args: &Args) -> Result<(World, u64)> {
 }
 
 fn check_analytic(world: &World) -> Result<()> {
-    if world.settings.narrow_phase == NarrowPhase::Analytic
-        && let Some(i) = world.bodies.iter().position(|b| !b.shape.is_circle())
-    {
-        bail!("--narrow-phase analytic needs circles only, but grain {i} is not a circle");
+    if world.settings.narrow_phase == NarrowPhase::Analytic {
+        if let Some(i) = world.bodies.iter().position(|b| !b.shape.is_circle()) {
+            bail!("--narrow-phase analytic needs circles only, but grain {i} is not a circle");
+        }
+        if let Some(i) = world.pending.iter().position(|p| !p.shape.is_circle()) {
+            bail!(
+                "--narrow-phase analytic needs circles only, but grain {i} still to appear is not a circle"
+            );
+        }
     }
     Ok(())
 }

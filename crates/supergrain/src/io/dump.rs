@@ -84,10 +84,10 @@ pub struct Dump {
 /// Why a dump cannot be resumed.
 #[derive(Debug, thiserror::Error)]
 pub enum DumpError {
-    #[error("particle {index}: {source}")]
-    Particle { index: usize, source: ShapeError },
-    #[error("pending grain {index}: {source}")]
-    Pending { index: usize, source: ShapeError },
+    #[error("particle {index}: {error}")]
+    Particle { index: usize, error: ShapeError },
+    #[error("pending grain {index}: {error}")]
+    Pending { index: usize, error: ShapeError },
     #[error("walls: {0}")]
     Walls(String),
     #[error("solver: {0}")]
@@ -212,11 +212,12 @@ impl Dump {
             },
         };
         let mut bodies = Vec::with_capacity(self.particles.len());
+        let mut velocities = Vec::with_capacity(self.particles.len());
         for (index, p) in self.particles.iter().enumerate() {
             let shape = Superellipse::new(p.semi_axes, p.exponents)
-                .map_err(|source| DumpError::Particle { index, source })?;
+                .map_err(|error| DumpError::Particle { index, error })?;
             let pose = Pose::new(Vec2::from(p.center), p.angle)
-                .map_err(|source| DumpError::Particle { index, source })?;
+                .map_err(|error| DumpError::Particle { index, error })?;
             let v = Vec2::from(p.velocity);
             let body = Body {
                 shape,
@@ -231,13 +232,14 @@ impl Dump {
                 return Err(DumpError::NotFinite(index));
             }
             bodies.push(body);
+            velocities.push(v);
         }
         let mut pending = VecDeque::with_capacity(self.pending.len());
         for (index, p) in self.pending.iter().enumerate() {
             let shape = Superellipse::new(p.semi_axes, p.exponents)
-                .map_err(|source| DumpError::Pending { index, source })?;
+                .map_err(|error| DumpError::Pending { index, error })?;
             Pose::new(Vec2::new(p.x, 0.0), p.angle)
-                .map_err(|source| DumpError::Pending { index, source })?;
+                .map_err(|error| DumpError::Pending { index, error })?;
             pending.push_back(Pending {
                 shape,
                 x: p.x,
@@ -251,7 +253,7 @@ impl Dump {
                 .map(|b| b.bounding_box().max.y)
                 .fold(w.floor + 1.0, f64::max)
         });
-        Ok(World::from_parts(
+        let mut world = World::from_parts(
             bodies,
             Walls {
                 left: w.left,
@@ -262,7 +264,10 @@ impl Dump {
             self.step,
             top,
             pending,
-        ))
+        );
+        // The velocities the dump reports stay the world's until its next step.
+        world.set_velocities(&velocities);
+        Ok(world)
     }
 }
 

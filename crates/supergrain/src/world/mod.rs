@@ -201,6 +201,17 @@ impl World {
         (self.bodies[i].center - start) * (1.0 / self.settings.step)
     }
 
+    /// Sets the velocities [`World::velocity`] reports until the next step (a restart).
+    pub fn set_velocities(&mut self, velocities: &[Vec2]) {
+        let h = self.settings.step;
+        self.step_start = self
+            .bodies
+            .iter()
+            .zip(velocities)
+            .map(|(b, v)| b.center - *v * h)
+            .collect();
+    }
+
     /// The largest grain speed over the last step.
     pub fn max_speed(&self) -> f64 {
         (0..self.bodies.len())
