@@ -9,6 +9,9 @@
 //! tolerance at all. Where the real value itself can be computed exactly (dyadic inputs,
 //! integer exponents) it is, in integers.
 
+mod common;
+
+use common::Rng;
 use std::f64::consts::TAU;
 
 use supergrain::geometry::{Aabb, Vec2};
@@ -17,39 +20,6 @@ use supergrain::interval::{
 };
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
 use supergrain::subdivision::Precision;
-
-/// SplitMix64: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next_u64() % n
-    }
-
-    fn sign(&mut self) -> f64 {
-        if self.next_u64() & 1 == 0 { 1.0 } else { -1.0 }
-    }
-}
 
 /// `a + b = s + err` exactly (Knuth's TwoSum).
 fn two_sum(a: f64, b: f64) -> (f64, f64) {

@@ -3,40 +3,13 @@
 //! implicit inequality, a parametric boundary sampled densely, and finite differences of the
 //! implicit function. Nothing below builds a reference from the library's own output.
 
+mod common;
+
+use common::Rng;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use supergrain::geometry::Vec2;
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
-
-/// SplitMix64: a small deterministic generator, independent of the library's dependencies.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    fn sign(&mut self) -> f64 {
-        if self.next_u64() & 1 == 0 { 1.0 } else { -1.0 }
-    }
-}
 
 fn shape(s: [f64; 2], e: [f64; 2]) -> Superellipse {
     Superellipse::new(s, e).expect("valid shape")

@@ -12,41 +12,15 @@
 //!   (exponent < 1) or a thin tip can go into the wall by many cells with no final midpoint
 //!   inside it.
 
+mod common;
+
+use common::Rng;
 use std::f64::consts::{FRAC_PI_2, SQRT_2, TAU};
 
 use supergrain::contact::contact_wall;
 use supergrain::geometry::Vec2;
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
 use supergrain::subdivision::Precision;
-
-/// SplitMix64: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next_u64() % n
-    }
-}
 
 /// A placed superellipse as plain numbers.
 #[derive(Clone, Copy, Debug)]

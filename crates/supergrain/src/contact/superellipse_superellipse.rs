@@ -83,7 +83,7 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
 /// boundary (`f_other` grows along every ray from `other`'s centre, see [`crate::subdivision`]), while the quadtree's is a cell
 /// midpoint up to half a cell inside. Moving it along `grad f_own` to the boundary removes that
 /// error from the penetration estimate, which otherwise makes resting grains jitter by about a
-/// cell per step. Kept only when the moved point is still proven inside `other`.
+/// cell per step. Kept only when the moved point is still proven inside `other`, and deeper.
 fn polish(
     own: &PlacedSuperellipse,
     other: &PlacedSuperellipse,
@@ -97,7 +97,12 @@ fn polish(
     let on_boundary = point + push_out(own, point, own_radius);
     // A hair inside, so that the proof of being inside `own` survives rounding.
     let inside = point + (on_boundary - point) * (1.0 - 1e-9);
-    if own.enclose_point(inside).hi < 0.0 && other.enclose_point(inside).hi < 0.0 {
+    // And only when it is at least as deep: on a thin shape the gradient may lead to the far
+    // side, away from `other`'s centre.
+    if own.enclose_point(inside).hi < 0.0
+        && other.enclose_point(inside).hi < 0.0
+        && other.value(inside) <= other.value(point)
+    {
         inside
     } else {
         point

@@ -17,8 +17,9 @@
 //!   visiting them all.
 //! - **Only boundaries hold deepest points.** `f_B` increases strictly along every ray from B's
 //!   centre, so `min f_B` over A lies on A's boundary, or at B's centre when A holds it: the
-//!   `A1` search skips cells strictly inside A that do not hold B's centre (the interior of the
-//!   lens of overlap), and likewise for `A2`. Shapes declare this through
+//!   `A1` search does not refine cells strictly inside A that do not hold B's centre (the
+//!   interior of the lens of overlap), though their midpoints still count, as the paper counts
+//!   those of cells inside both; likewise for `A2`. Shapes declare this through
 //!   [`ImplicitShape::minima`].
 //!   (Pruning with a tolerance of one final cell's change of `f` was tried: 1.6x fewer cells, but
 //!   on thin shapes the change of `f` varies so much along the boundary that the deepest point
@@ -203,36 +204,16 @@ where
         let Node { cell, fa, fb } = stack[len];
         // Could this cell still hold a better A1 (min f_B over A) or A2 (min f_A over B)?
         // Outside either shape (lower bound > 0) it cannot: the paper's discard rule.
-        let useful_a =
-            fa.lo <= 0.0 && fb.lo < best_a && (fa.hi >= 0.0 || may_hold(minima_b, &cell));
-        let useful_b =
-            fb.lo <= 0.0 && fa.lo < best_b && (fb.hi >= 0.0 || may_hold(minima_a, &cell));
-        if !(useful_a || useful_b) && fa.hi < 0.0 && fb.hi < 0.0 && found.in_a.is_none() {
-            // Inside both but of no use to either search: its midpoint still proves the
-            // overlap, and is the best candidate yet.
-            let (pa, pb) = (
-                a.enclose_point(cell.center()),
-                b.enclose_point(cell.center()),
-            );
-            if pa.hi < 0.0 && pb.hi < 0.0 {
-                best_a = pb.hi;
-                found.in_a = Some(Deepest {
-                    point: cell.center(),
-                    other_value: pb.hi,
-                });
-                if want_b {
-                    best_b = pa.hi;
-                    found.in_b = Some(Deepest {
-                        point: cell.center(),
-                        other_value: pa.hi,
-                    });
-                }
-            }
+        let improves_a = fa.lo <= 0.0 && fb.lo < best_a;
+        let improves_b = fb.lo <= 0.0 && fa.lo < best_b;
+        if !(improves_a || improves_b) {
             continue;
         }
-        if !(useful_a || useful_b) {
-            continue;
-        }
+        // Refined only where a deeper point can lie: on the boundary, or at the other's centre
+        // (module docs). A cell strictly inside is not refined but its midpoint still counts,
+        // the paper's rule for cells inside both.
+        let refine = (improves_a && (fa.hi >= 0.0 || may_hold(minima_b, &cell)))
+            || (improves_b && (fb.hi >= 0.0 || may_hold(minima_a, &cell)));
 
         // The midpoint is a candidate only when proven inside both. It is worth evaluating
         // where that is likely (a cell inside one shape, or at the final precision) and, until
@@ -241,7 +222,7 @@ where
         let mid = cell.center();
         let (split_x, split_y) = splits(&cell);
         let last = !(split_x || split_y);
-        let pa = if last || fa.hi < 0.0 || fb.hi < 0.0 || found.in_a.is_none() {
+        let pa = if last || !refine || fa.hi < 0.0 || fb.hi < 0.0 || found.in_a.is_none() {
             a.enclose_point(mid)
         } else {
             Interval::point(f64::INFINITY)
@@ -266,7 +247,7 @@ where
             }
         }
 
-        if last {
+        if last || !refine {
             continue;
         }
         let xs = if split_x {
