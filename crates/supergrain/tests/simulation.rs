@@ -190,10 +190,9 @@ fn squircles_settle_like_fig_12() {
     settle_preset("squircles");
 }
 
-/// Stars (exponents below 1) wedge their spikes into neighbours; a few keep jittering slowly, and
-/// a cusp can sink up to about one final quadtree cell into a neighbour unseen (2.2% of a
-/// semi-axis measured, against the 2% bar). So this preset is held to the box, to overlaps within
-/// 2% or one final cell, and to nothing being thrown, not to full rest.
+/// Stars (exponents below 1) wedge their spikes into neighbours and a few keep jittering slowly
+/// (fastest about 0.08 after 3000 steps, against 0.049 for rest). So this preset is held to the
+/// box, to overlaps within 2%, and to nothing being thrown, not to full rest.
 #[test]
 fn mixed_settles_into_the_box_without_overlap_like_fig_13() {
     let mut scene = Scene::preset("mixed").unwrap();
@@ -206,7 +205,7 @@ fn mixed_settles_into_the_box_without_overlap_like_fig_13() {
         world.max_speed(),
         world.step
     );
-    assert_settled(&world, "mixed", false, true);
+    assert_settled(&world, "mixed", false, false);
 }
 
 fn random_scene(seed: u64, kinds: Vec<(u32, u8)>, width: f64) -> Scene {

@@ -124,6 +124,17 @@ impl Default for Settings {
 }
 
 impl Settings {
+    /// Pairs with a star (an exponent below 1) are tested two levels deeper: a spike thinner
+    /// than a final cell can otherwise sink unseen into a neighbour, and such contacts flicker
+    /// on and off as grains move, which keeps stars jittering.
+    pub fn star_precision(&self) -> Precision {
+        Precision::new(
+            (self.precision.depth() + 2).min(crate::subdivision::MAX_DEPTH),
+            self.precision.eps(),
+        )
+        .expect("a valid precision stays valid two levels deeper")
+    }
+
     /// Walls are tested three levels deeper than grains: their enclosure is exact and cheap, and
     /// the spike of a star (exponent < 1) narrower than a final cell can otherwise sink unseen
     /// into the floor.
@@ -148,13 +159,15 @@ pub struct StepStats {
 /// Grain-grain contact by the chosen narrow phase.
 pub fn grain_contact(settings: &Settings, a: &Body, b: &Body) -> Contact {
     match settings.narrow_phase {
-        NarrowPhase::Interval => contact(
-            &a.shape,
-            &a.pose(),
-            &b.shape,
-            &b.pose(),
-            &settings.precision,
-        ),
+        NarrowPhase::Interval => {
+            let star = |b: &Body| b.shape.exponents().iter().any(|&e| e < 1.0);
+            let precision = if star(a) || star(b) {
+                settings.star_precision()
+            } else {
+                settings.precision
+            };
+            contact(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision)
+        }
         NarrowPhase::Analytic => {
             let (ra, rb) = (a.shape.semi_axes().x, b.shape.semi_axes().x);
             let penetration = disk_disk(a.center, ra, b.center, rb).map(|(n, depth)| Penetration {
