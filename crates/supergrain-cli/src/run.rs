@@ -96,13 +96,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
     );
     let start = Instant::now();
     let mut contacts = 0u64;
-    let first = world.step;
-    frame(&world, first, &args, trajectory.as_mut())?;
+    frame(&world, &args, trajectory.as_mut())?;
     for k in 1..=steps {
         let stats = world.step();
         contacts += stats.contacts as u64;
         if k % args.every == 0 {
-            frame(&world, first, &args, trajectory.as_mut())?;
+            frame(&world, &args, trajectory.as_mut())?;
         }
         if k % 50 == 0 {
             bar.set_position(k);
@@ -205,8 +204,8 @@ fn prepare_dir(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-fn frame(world: &World, first: u64, args: &Args, trajectory: Option<&mut Output>) -> Result<()> {
-    let _ = first;
+/// Writes one frame of the trajectory and of the VTK series.
+fn frame(world: &World, args: &Args, trajectory: Option<&mut Output>) -> Result<()> {
     if let Some(t) = trajectory {
         write_trajectory_frame(world, t)?;
     }

@@ -1,7 +1,11 @@
 //! The solver (paper III, SPEC §5): Verlet integration with damping, then, grain by grain,
 //! projection of its collisions with the other grains and the walls, repeated until none is
 //! left or `max_iterations` is reached (Jakobsen, "Advanced character physics").
-
+//!
+//! Our additions, each needed for heaps to come to rest and each measured (README, "Where we
+//! depart from the paper"): a slop below which contacts move a grain straight out without
+//! turning it, pushes that never point into the other grain and are capped, two closing sweeps
+//! over all grains, and deeper quadtrees for walls and for pairs with a star.
 mod response;
 
 pub use response::{project, safe_push};
