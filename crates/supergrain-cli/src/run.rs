@@ -9,6 +9,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use supergrain::io::{Dump, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
+use supergrain::render::world_svg;
 use supergrain::solver::NarrowPhase;
 use supergrain::world::{PRESETS, Scene, World};
 
@@ -25,7 +26,7 @@ enum NarrowPhaseArg {
 #[derive(Parser)]
 #[command(after_help = "\
 Examples:
-  supergrain run --preset circles --dump circles.json
+  supergrain run --preset circles --dump circles.json --svg circles.svg
   supergrain run examples/scenes/mixed.toml --steps 2000 --trajectory mixed.csv --every 20
   supergrain run --resume circles.json --steps 1000 --dump circles-later.json
   supergrain run --preset circles --narrow-phase analytic
@@ -54,6 +55,9 @@ pub struct Args {
     /// Write the final state as JSON (restartable with --resume).
     #[arg(long, value_name = "FILE.json")]
     dump: Option<PathBuf>,
+    /// Draw the final state as an SVG picture.
+    #[arg(long, value_name = "FILE.svg")]
+    svg: Option<PathBuf>,
     /// Write a CSV row per grain every --every steps.
     #[arg(long, value_name = "FILE.csv")]
     trajectory: Option<PathBuf>,
@@ -75,6 +79,11 @@ pub fn run(args: Args) -> Result<ExitCode> {
     // Every output is opened before any work, so a bad path costs nothing.
     let dump = args
         .dump
+        .as_deref()
+        .map(|p| Output::open(Some(p)))
+        .transpose()?;
+    let svg = args
+        .svg
         .as_deref()
         .map(|p| Output::open(Some(p)))
         .transpose()?;
@@ -113,6 +122,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
 
     if let Some(t) = trajectory {
         t.finish()?;
+    }
+    if let Some(mut picture) = svg {
+        picture.write_all(world_svg(&world, 800).as_bytes())?;
+        picture.finish()?;
     }
     if let Some(mut d) = dump {
         serde_json::to_writer(&mut d, &Dump::of(&world))?;

@@ -1306,3 +1306,51 @@ fn run_help_mentions_the_presets_and_resume() {
         assert!(help.contains(word), "{word} not in run --help:\n{help}");
     }
 }
+
+/// `--svg` draws one outline per grain of the final state, every vertex inside the picture,
+/// and the walls.
+#[test]
+fn svg_picture_has_one_outline_per_grain() {
+    let dir = tempfile::tempdir().unwrap();
+    let (svg, dump) = (dir.path().join("heap.svg"), dir.path().join("heap.json"));
+    ok(&sg(&[
+        "run",
+        "--preset",
+        "circles",
+        "--steps",
+        "400",
+        "--svg",
+        svg.to_str().unwrap(),
+        "--dump",
+        dump.to_str().unwrap(),
+        "-q",
+    ]));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let dump: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&dump).unwrap()).unwrap();
+    let grains = dump["particles"].as_array().unwrap().len();
+    assert!(grains > 10);
+    assert_eq!(text.matches("<polygon").count(), grains);
+    assert_eq!(text.matches("<polyline").count(), 1, "the walls");
+    let (w, h) = (
+        800.0,
+        text.split("height=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse::<f64>()
+            .unwrap(),
+    );
+    for poly in text.split("<polygon points=\"").skip(1) {
+        for xy in poly.split('"').next().unwrap().split(' ') {
+            let (x, y) = xy.split_once(',').unwrap();
+            let (x, y): (f64, f64) = (x.parse().unwrap(), y.parse().unwrap());
+            assert!(
+                (0.0..=w).contains(&x) && (0.0..=h).contains(&y),
+                "vertex {x},{y} outside {w}x{h}"
+            );
+        }
+    }
+}

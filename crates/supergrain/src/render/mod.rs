@@ -1,6 +1,8 @@
-//! Pictures. For now one diagram: a collision test drawn as SVG, with the quadtree cells by
-//! class, the two shapes, the deepest points and the penetration vectors (paper Figs. 2, 3, 6).
+//! Pictures, as SVG for now: a collision test with its quadtree cells by class, deepest points
+//! and penetration vectors (paper Figs. 2, 3, 6), and a whole world (paper Figs. 10-13).
 
 mod contact_svg;
+mod world_svg;
 
 pub use contact_svg::contact_svg;
+pub use world_svg::world_svg;
