@@ -8,7 +8,13 @@ use crate::world::World;
 /// paper II-B is the next step.
 pub fn world_svg(world: &World, width: u32) -> String {
     let w = world.walls;
-    let top = world.top.max(w.floor + 1.0);
+    // Up to the spawn height, or the highest grain if one reaches above it.
+    let highest = world
+        .bodies
+        .iter()
+        .map(|b| b.bounding_box().max.y)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let top = world.top.max(highest).max(w.floor + 1.0);
     let (x0, x1) = (w.left, w.right);
     let margin = 0.04 * (x1 - x0);
     let (vx, vy) = (x0 - margin, w.floor - margin);
