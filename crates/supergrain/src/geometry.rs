@@ -199,14 +199,4 @@ impl Aabb {
     pub fn contains(&self, p: Vec2) -> bool {
         (self.min.x..=self.max.x).contains(&p.x) && (self.min.y..=self.max.y).contains(&p.y)
     }
-
-    /// The box of this box after the rigid motion `p -> rotation p + translation`.
-    pub fn transformed(&self, rotation: Rotation, translation: Vec2) -> Aabb {
-        let c = rotation.apply(self.center()) + translation;
-        let hw = 0.5 * self.width();
-        let hh = 0.5 * self.height();
-        let ex = rotation.cos.abs() * hw + rotation.sin.abs() * hh;
-        let ey = rotation.sin.abs() * hw + rotation.cos.abs() * hh;
-        Aabb::new(Vec2::new(c.x - ex, c.y - ey), Vec2::new(c.x + ex, c.y + ey))
-    }
 }
