@@ -89,11 +89,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let defaults = Precision::new(args.depth, args.eps).context("invalid --depth/--eps")?;
     // Open every output before any work, so a bad path fails fast.
     let mut out = Output::open(args.output.as_deref())?;
-    let mut svg = args
-        .svg
-        .as_deref()
-        .map(|p| Output::open(Some(p)))
-        .transpose()?;
+    let mut svg = Output::optional(args.svg.as_deref())?;
     let mut failed = 0usize;
     if let Some(path) = &args.batch {
         let input: Box<dyn BufRead> = if path.as_os_str() == "-" {

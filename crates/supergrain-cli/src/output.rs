@@ -52,6 +52,11 @@ impl Output {
         Ok(Output(Some(sink)))
     }
 
+    /// A file output if a path is given (see [`Output::open`]), none otherwise.
+    pub fn optional(path: Option<&Path>) -> Result<Option<Self>> {
+        path.map(|p| Output::open(Some(p))).transpose()
+    }
+
     /// Flushes and, for a file, renames it into place.
     pub fn finish(mut self) -> Result<()> {
         match self.0.take() {

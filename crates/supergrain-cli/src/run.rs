@@ -77,21 +77,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let steps = args.steps.unwrap_or(default_steps);
 
     // Every output is opened before any work, so a bad path costs nothing.
-    let dump = args
-        .dump
-        .as_deref()
-        .map(|p| Output::open(Some(p)))
-        .transpose()?;
-    let svg = args
-        .svg
-        .as_deref()
-        .map(|p| Output::open(Some(p)))
-        .transpose()?;
-    let mut trajectory = args
-        .trajectory
-        .as_deref()
-        .map(|p| Output::open(Some(p)))
-        .transpose()?;
+    let dump = Output::optional(args.dump.as_deref())?;
+    let svg = Output::optional(args.svg.as_deref())?;
+    let mut trajectory = Output::optional(args.trajectory.as_deref())?;
     if let Some(t) = trajectory.as_mut() {
         writeln!(t, "{TRAJECTORY_HEADER}")?;
     }

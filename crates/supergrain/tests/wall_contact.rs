@@ -14,75 +14,15 @@
 
 mod common;
 
-use common::Rng;
+use common::{Rng, Shape, to_lib};
 use std::f64::consts::{FRAC_PI_2, SQRT_2, TAU};
 
 use supergrain::contact::contact_wall;
-use supergrain::geometry::Vec2;
-use supergrain::shape::{HalfPlane, Pose, Superellipse};
+use supergrain::shape::HalfPlane;
 use supergrain::subdivision::Precision;
 
-/// A placed superellipse as plain numbers.
-#[derive(Clone, Copy, Debug)]
-struct Shape {
-    s: [f64; 2],
-    e: [f64; 2],
-    c: [f64; 2],
-    angle: f64,
-}
-
+/// What the wall tests need beyond the shared reference shape.
 impl Shape {
-    /// `f(p) = |u/sx|^ex + |v/sy|^ey - 1`, `(u, v) = R(-angle)(p - c)`.
-    fn f(&self, p: [f64; 2]) -> f64 {
-        let (sn, cs) = self.angle.sin_cos();
-        let (dx, dy) = (p[0] - self.c[0], p[1] - self.c[1]);
-        let u = cs * dx + sn * dy;
-        let v = -sn * dx + cs * dy;
-        (u / self.s[0]).abs().powf(self.e[0]) + (v / self.s[1]).abs().powf(self.e[1]) - 1.0
-    }
-
-    /// The boundary point at parameter `t`.
-    fn boundary(&self, t: f64) -> [f64; 2] {
-        let (sn, cs) = t.sin_cos();
-        let g = |x: f64, e: f64| x.signum() * x.abs().powf(2.0 / e);
-        let (u, v) = (self.s[0] * g(cs, self.e[0]), self.s[1] * g(sn, self.e[1]));
-        let (sa, ca) = self.angle.sin_cos();
-        [self.c[0] + ca * u - sa * v, self.c[1] + sa * u + ca * v]
-    }
-
-    /// Boundary samples, consecutive ones at most `h` apart. The 256 starting pieces begin at
-    /// multiples of pi/2, so no piece straddles a quadrant.
-    fn samples(&self, h: f64) -> Vec<[f64; 2]> {
-        let mut out = Vec::new();
-        let n = 256;
-        for i in 0..n {
-            let (t0, t1) = (i as f64 * TAU / n as f64, (i + 1) as f64 * TAU / n as f64);
-            self.refine(t0, self.boundary(t0), t1, self.boundary(t1), h, 0, &mut out);
-        }
-        out
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn refine(
-        &self,
-        t0: f64,
-        p0: [f64; 2],
-        t1: f64,
-        p1: [f64; 2],
-        h: f64,
-        depth: u32,
-        out: &mut Vec<[f64; 2]>,
-    ) {
-        if (p0[0] - p1[0]).hypot(p0[1] - p1[1]) <= h || depth > 50 {
-            out.push(p0);
-            return;
-        }
-        let tm = 0.5 * (t0 + t1);
-        let pm = self.boundary(tm);
-        self.refine(t0, p0, tm, pm, h, depth + 1, out);
-        self.refine(tm, pm, t1, p1, h, depth + 1, out);
-    }
-
     fn size(&self) -> f64 {
         self.s[0].max(self.s[1])
     }
@@ -93,13 +33,6 @@ impl Shape {
         let (sn, cs) = self.angle.sin_cos();
         let (sn, cs) = (sn.abs(), cs.abs());
         2.0 * (cs * self.s[0] + sn * self.s[1]).max(sn * self.s[0] + cs * self.s[1])
-    }
-
-    fn to_lib(self) -> (Superellipse, Pose) {
-        (
-            Superellipse::new(self.s, self.e).unwrap(),
-            Pose::new(Vec2::new(self.c[0], self.c[1]), self.angle).unwrap(),
-        )
     }
 }
 
@@ -267,7 +200,7 @@ fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
         let (wall, lib_wall) = Wall::new(side, extreme + target);
         let depth_ref = wall.d - extreme;
 
-        let (shape, pose) = sh.to_lib();
+        let (shape, pose) = to_lib(&sh);
         let got = contact_wall(&shape, &pose, &lib_wall, &precision);
 
         // The final cells' half-diagonal: the region is inside the shape's box, whose longest

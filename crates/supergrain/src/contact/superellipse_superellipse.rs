@@ -25,9 +25,8 @@ pub fn contact(
     contact_with_cells(a, pose_a, b, pose_b, precision, &mut ())
 }
 
-/// [`contact`], handing every classified cell (in world coordinates of A's frame: see below)
-/// to `sink`. The quadtree runs in A's local frame, where A's own classification is exact; the
-/// cells given to the sink are in that frame.
+/// [`contact`], handing every classified cell to `sink`. The quadtree runs in A's local frame,
+/// where A's own classification is exact, and the cells are given in that frame.
 pub fn contact_with_cells<S: CellSink + ?Sized>(
     a: &Superellipse,
     pose_a: &Pose,
@@ -38,8 +37,8 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
 ) -> Contact {
     // Cheap rejection by bounding circles before any box or interval.
     let reach = a.bounding_radius() + b.bounding_radius();
-    let gap = pose_b.center() - pose_a.center();
-    if gap.norm() > reach || gap.norm().is_nan() {
+    let gap = (pose_b.center() - pose_a.center()).norm();
+    if gap > reach || gap.is_nan() {
         return Contact {
             penetration: None,
             cells: 0,
@@ -60,10 +59,10 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
     let found = deepest_points(&local_a, &local_b, &region, precision, true, sink);
     let penetration = match (found.in_a, found.in_b) {
         (Some(a1), Some(a2)) => {
-            let a1 = polish(&local_a, &local_b, a1.point, a.bounding_radius());
-            let a2 = polish(&local_b, &local_a, a2.point, b.bounding_radius());
-            let a_push = push_out(&local_b, a1, b.bounding_radius());
-            let b_push = push_out(&local_a, a2, a.bounding_radius());
+            let a1 = polish(&local_a, &local_b, a1.point);
+            let a2 = polish(&local_b, &local_a, a2.point);
+            let a_push = push_out(&local_b, a1);
+            let b_push = push_out(&local_a, a2);
             Some(Penetration {
                 a_deepest: pose_a.to_world(a1),
                 b_deepest: pose_a.to_world(a2),
@@ -80,21 +79,16 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
 }
 
 /// Unless `own` holds `other`'s centre, the deepest point of `own` in `other` lies on `own`'s
-/// boundary (`f_other` grows along every ray from `other`'s centre, see [`crate::subdivision`]), while the quadtree's is a cell
-/// midpoint up to half a cell inside. Moving it along `grad f_own` to the boundary removes that
+/// boundary (`f_other` grows along every ray from `other`'s centre, see
+/// [`crate::subdivision`]), while the quadtree's is a cell midpoint up to half a cell inside. Moving it along `grad f_own` to the boundary removes that
 /// error from the penetration estimate, which otherwise makes resting grains jitter by about a
 /// cell per step. Kept only when the moved point is still proven inside `other`, and deeper.
-fn polish(
-    own: &PlacedSuperellipse,
-    other: &PlacedSuperellipse,
-    point: Vec2,
-    own_radius: f64,
-) -> Vec2 {
+fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2) -> Vec2 {
     if own.enclose_point(other.pose().center()).lo <= 0.0 {
         // `own` may hold `other`'s centre, which is then the deepest point: not on the boundary.
         return point;
     }
-    let on_boundary = point + push_out(own, point, own_radius);
+    let on_boundary = point + push_out(own, point);
     // A hair inside, so that the proof of being inside `own` survives rounding.
     let inside = point + (on_boundary - point) * (1.0 - 1e-9);
     // And only when it is at least as deep: on a thin shape the gradient may lead to the far
@@ -110,7 +104,7 @@ fn polish(
 }
 
 /// `A1 -> B2`: from a point inside `other` along `grad f_other` to its boundary.
-fn push_out(other: &PlacedSuperellipse, from: Vec2, other_radius: f64) -> Vec2 {
+fn push_out(other: &PlacedSuperellipse, from: Vec2) -> Vec2 {
     let centre = other.pose().center();
     // The gradient vanishes only at the centre of a symmetric shape; then any way out will do,
     // and straight away from the centre (or along x) is as good as any.
@@ -120,6 +114,7 @@ fn push_out(other: &PlacedSuperellipse, from: Vec2, other_radius: f64) -> Vec2 {
         .or_else(|| (from - centre).direction())
         .unwrap_or(Vec2::new(1.0, 0.0));
     // From any point within the bounding circle, this far along is outside it.
-    let t_far = ((from - centre).norm() + other_radius) * (1.0 + 1e-9) + f64::MIN_POSITIVE;
+    let t_far = ((from - centre).norm() + other.shape().bounding_radius()) * (1.0 + 1e-9)
+        + f64::MIN_POSITIVE;
     ray_to_boundary(other, from, dir, t_far) - from
 }

@@ -132,22 +132,14 @@ impl Settings {
     /// than a final cell can otherwise sink unseen into a neighbour, and such contacts flicker
     /// on and off as grains move, which keeps stars jittering.
     pub fn star_precision(&self) -> Precision {
-        Precision::new(
-            (self.precision.depth() + 2).min(crate::subdivision::MAX_DEPTH),
-            self.precision.eps(),
-        )
-        .expect("a valid precision stays valid two levels deeper")
+        self.precision.deeper(2)
     }
 
     /// Walls are tested three levels deeper than grains: their enclosure is exact and cheap, and
     /// the spike of a star (exponent < 1) narrower than a final cell can otherwise sink unseen
     /// into the floor.
     pub fn wall_precision(&self) -> Precision {
-        Precision::new(
-            (self.precision.depth() + 3).min(crate::subdivision::MAX_DEPTH),
-            self.precision.eps(),
-        )
-        .expect("a valid precision stays valid three levels deeper")
+        self.precision.deeper(3)
     }
 }
 

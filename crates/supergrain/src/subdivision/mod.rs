@@ -76,6 +76,14 @@ impl Precision {
         self.eps
     }
 
+    /// The same tolerance, `levels` deeper (at most [`MAX_DEPTH`]).
+    pub fn deeper(&self, levels: u32) -> Precision {
+        Precision {
+            depth: (self.depth + levels).min(MAX_DEPTH),
+            eps: self.eps,
+        }
+    }
+
     /// The final cell size for a region.
     pub fn cell_size(&self, region: &Aabb) -> f64 {
         let longest = region.width().max(region.height());

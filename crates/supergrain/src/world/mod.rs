@@ -12,7 +12,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::broad_phase::AllPairs;
-use crate::geometry::Vec2;
+use crate::geometry::{Aabb, Vec2};
 use crate::shape::{Pose, Superellipse};
 use crate::solver::{
     self, Body, Settings, StepStats, Walls, Workspace, grain_contact, wall_contact,
@@ -158,6 +158,8 @@ impl World {
     /// A new grain never appears inside another: a due grain whose place is taken waits, and
     /// the grains due after it whose places are free appear meanwhile, in queue order.
     fn spawn(&mut self) {
+        // The grains' boxes, made once and only when a grain is due.
+        let mut boxes: Option<Vec<Aabb>> = None;
         let mut k = 0;
         while k < self.pending.len() {
             let p = self.pending[k];
@@ -169,13 +171,15 @@ impl World {
                 &Pose::from_parts(Vec2::new(p.x, self.top), p.angle),
             );
             let bb = body.bounding_box();
-            let taken = self.bodies.iter().any(|o| {
-                o.bounding_box().intersects(&bb)
-                    && grain_contact(&self.settings, &body, o).overlap()
+            let boxes =
+                boxes.get_or_insert_with(|| self.bodies.iter().map(Body::bounding_box).collect());
+            let taken = self.bodies.iter().zip(boxes.iter()).any(|(o, ob)| {
+                ob.intersects(&bb) && grain_contact(&self.settings, &body, o).overlap()
             });
             if taken {
                 k += 1;
             } else {
+                boxes.push(bb);
                 self.bodies.push(body);
                 self.pending.remove(k);
             }
@@ -223,15 +227,15 @@ impl World {
     pub fn deepest_penetration(&self) -> f64 {
         let mut deepest = 0.0f64;
         let walls = self.walls.half_planes();
+        let boxes: Vec<Aabb> = self.bodies.iter().map(Body::bounding_box).collect();
         for (i, a) in self.bodies.iter().enumerate() {
-            let ba = a.bounding_box();
             for w in &walls {
                 if let Some(p) = wall_contact(&self.settings, a, w).penetration {
                     deepest = deepest.max(p.push.norm());
                 }
             }
-            for b in &self.bodies[i + 1..] {
-                if !ba.intersects(&b.bounding_box()) {
+            for (b, bb) in self.bodies[i + 1..].iter().zip(&boxes[i + 1..]) {
+                if !boxes[i].intersects(bb) {
                     continue;
                 }
                 if let Some(p) = grain_contact(&self.settings, a, b).penetration {
