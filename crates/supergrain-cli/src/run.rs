@@ -30,6 +30,7 @@ Examples:
   supergrain run examples/scenes/mixed.toml --steps 2000 --trajectory mixed.csv --every 20
   supergrain run --resume circles.json --steps 1000 --dump circles-later.json
   supergrain run --preset circles --narrow-phase analytic
+  supergrain run examples/scenes/pour-1000.toml --until-rest --steps 20000 --svg pour.svg
 
 The presets are the paper's four scenes (Figs. 10-13): circles, ellipses, squircles, mixed.
 A progress bar shows on a terminal; a summary is printed at the end.")]
@@ -64,6 +65,14 @@ pub struct Args {
     /// Write a VTK point file per frame (every --every steps) into DIR.
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
+    /// Stop once every grain has appeared and none has moved faster than --rest-speed for 100
+    /// steps in a row; --steps is then the most it runs.
+    #[arg(long)]
+    until_rest: bool,
+    /// Speed under which a grain counts as at rest (5% of a falling grain's terminal speed
+    /// g h / delta with the paper's settings).
+    #[arg(long, default_value_t = 0.05, value_name = "SPEED", value_parser = positive_speed)]
+    rest_speed: f64,
     /// Steps between frames of --trajectory and --vtk.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
     every: u64,
@@ -93,17 +102,36 @@ pub fn run(args: Args) -> Result<ExitCode> {
     );
     let start = Instant::now();
     let mut contacts = 0u64;
+    let mut calm = 0u64;
+    let mut done = 0u64;
     frame(&world, &args, trajectory.as_mut())?;
     for k in 1..=steps {
         let stats = world.step();
+        done = k;
         contacts += stats.contacts as u64;
         if k % args.every == 0 {
             frame(&world, &args, trajectory.as_mut())?;
         }
+        let fastest = world.max_speed();
+        calm = if world.all_spawned() && fastest < args.rest_speed {
+            calm + 1
+        } else {
+            0
+        };
         if k % 50 == 0 {
             bar.set_position(k);
-            bar.set_message(format!("{} grains", world.bodies.len()));
+            bar.set_message(format!(
+                "{} grains, {} asleep, fastest {fastest:.3}",
+                world.bodies.len(),
+                world.asleep()
+            ));
         }
+        if args.until_rest && calm >= REST_STEPS {
+            break;
+        }
+    }
+    if args.until_rest && done % args.every != 0 {
+        frame(&world, &args, trajectory.as_mut())?;
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
@@ -126,15 +154,37 @@ pub fn run(args: Args) -> Result<ExitCode> {
              deepest remaining penetration {:.2e}, fastest grain {:.3}",
             world.bodies.len(),
             world.pending.len(),
-            steps,
+            done,
             elapsed,
-            steps as f64 / elapsed.max(1e-9),
-            contacts as f64 / steps.max(1) as f64,
+            done as f64 / elapsed.max(1e-9),
+            contacts as f64 / done.max(1) as f64,
             world.deepest_penetration(),
             world.max_speed(),
         );
+        if args.until_rest {
+            if calm >= REST_STEPS {
+                eprintln!(
+                    "at rest at step {}: no grain faster than {} for {REST_STEPS} steps",
+                    world.step, args.rest_speed
+                );
+            } else {
+                eprintln!(
+                    "not at rest after {done} steps (raise --steps to go on, or --resume a dump)"
+                );
+            }
+        }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Steps in a row under --rest-speed that count as rest.
+const REST_STEPS: u64 = 100;
+
+fn positive_speed(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("expected a finite number > 0, got {s}")),
+    }
 }
 
 fn load(args: &Args) -> Result<(World, u64)> {

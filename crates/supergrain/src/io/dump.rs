@@ -35,6 +35,17 @@ pub struct ParticleJson {
     pub previous_center: Option<[f64; 2]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub previous_angle: Option<f64>,
+    /// Calm steps in a row near `anchor` (sleeping, see the solver's `sleep_radius`);
+    /// absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub calm: u32,
+    /// Absent: `center`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub anchor: Option<[f64; 2]>,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 /// A grain that has not appeared yet.
@@ -57,6 +68,11 @@ pub struct SolverJson {
     pub gravity: f64,
     pub max_iterations: u32,
     pub slop: f64,
+    /// Absent in dumps older than sleeping: sleeping off.
+    #[serde(default)]
+    pub sleep_radius: f64,
+    #[serde(default)]
+    pub sleep_steps: u32,
     pub depth: u32,
     pub eps: f64,
     pub rotation: String,
@@ -120,6 +136,8 @@ impl Dump {
                         velocity: world.velocity(i).to_array(),
                         previous_center: Some(b.previous_center.to_array()),
                         previous_angle: Some(b.previous_angle),
+                        calm: b.calm,
+                        anchor: (b.anchor != b.center).then(|| b.anchor.to_array()),
                     }
                 })
                 .collect(),
@@ -131,6 +149,8 @@ impl Dump {
                 gravity: s.gravity,
                 max_iterations: s.max_iterations,
                 slop: s.slop,
+                sleep_radius: s.sleep_radius,
+                sleep_steps: s.sleep_steps,
                 depth: s.precision.depth(),
                 eps: s.precision.eps(),
                 rotation: match s.rotation {
@@ -189,6 +209,15 @@ impl Dump {
                         s.slop
                     )));
                 },
+                sleep_radius: if s.sleep_radius.is_finite() && s.sleep_radius >= 0.0 {
+                    s.sleep_radius
+                } else {
+                    return Err(DumpError::Solver(format!(
+                        "sleep_radius must be a finite number >= 0, got {}",
+                        s.sleep_radius
+                    )));
+                },
+                sleep_steps: s.sleep_steps,
                 precision: Precision::new(s.depth, s.eps)
                     .map_err(|e| DumpError::Solver(e.to_string()))?,
                 rotation: match s.rotation.as_str() {
@@ -227,6 +256,8 @@ impl Dump {
                     .previous_center
                     .map_or(pose.center() - v * settings.step, Vec2::from),
                 previous_angle: p.previous_angle.unwrap_or(pose.angle()),
+                calm: p.calm,
+                anchor: p.anchor.map_or(pose.center(), Vec2::from),
             };
             if !body.is_finite() || !v.is_finite() {
                 return Err(DumpError::NotFinite(index));

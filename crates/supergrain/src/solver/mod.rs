@@ -27,6 +27,10 @@ pub struct Body {
     pub angle: f64,
     pub previous_center: Vec2,
     pub previous_angle: f64,
+    /// Steps in a row the grain has stayed within [`Settings::sleep_radius`] of `anchor`; at
+    /// [`Settings::sleep_steps`] it is asleep.
+    pub calm: u32,
+    pub anchor: Vec2,
 }
 
 impl Body {
@@ -38,7 +42,14 @@ impl Body {
             angle: pose.angle(),
             previous_center: pose.center(),
             previous_angle: pose.angle(),
+            calm: 0,
+            anchor: pose.center(),
         }
+    }
+
+    /// Whether the grain sleeps under these settings.
+    pub fn asleep(&self, settings: &Settings) -> bool {
+        settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps
     }
 
     pub fn pose(&self) -> Pose {
@@ -107,6 +118,16 @@ pub struct Settings {
     /// Penetrations shallower than this move a grain but do not turn it (our addition, as
     /// Box2D's linear slop; 0 is the paper's projection).
     pub slop: f64,
+    /// Sleeping, as in Box2D (our addition; 0 turns it off): a grain that stays within this
+    /// distance of one point for [`Settings::sleep_steps`] steps in a row stops moving, until an
+    /// awake grain pushes into it deeper than `slop` or a grain whose box touches its box moves
+    /// more than this in one step. Projection alone leaves heaps trembling in place for ever
+    /// (a contact within a final cell of touching flickers between found and not found, so a
+    /// grain sinks `g h^2` and is pushed back, about every other step; with stars' spikes
+    /// thinner than a cell this never stops). A sleeper holds its neighbours as a wall does,
+    /// and is neither moved nor tested itself.
+    pub sleep_radius: f64,
+    pub sleep_steps: u32,
     pub precision: Precision,
     pub rotation: Rotation,
     pub narrow_phase: NarrowPhase,
@@ -120,6 +141,8 @@ impl Default for Settings {
             gravity: 9.8,
             max_iterations: 10,
             slop: 0.005,
+            sleep_radius: 0.002,
+            sleep_steps: 100,
             precision: Precision::default(),
             rotation: Rotation::Projection,
             narrow_phase: NarrowPhase::Interval,
@@ -205,6 +228,7 @@ pub fn wall_contact(settings: &Settings, a: &Body, wall: &HalfPlane) -> WallCont
 #[derive(Debug, Default)]
 pub struct Workspace {
     boxes: Vec<Aabb>,
+    start: Vec<Vec2>,
     candidates: Vec<usize>,
 }
 
@@ -221,8 +245,13 @@ pub fn step<B: BroadPhase>(
     let walls = walls.half_planes();
     work.boxes.clear();
     work.boxes.extend(bodies.iter().map(Body::bounding_box));
+    work.start.clear();
+    work.start.extend(bodies.iter().map(|b| b.center));
     broad.rebuild(&work.boxes);
     for i in 0..bodies.len() {
+        if bodies[i].asleep(settings) {
+            continue;
+        }
         verlet(&mut bodies[i], settings);
         work.boxes[i] = bodies[i].bounding_box();
         for pass in 0..settings.max_iterations {
@@ -241,13 +270,55 @@ pub fn step<B: BroadPhase>(
     for _ in 0..CLOSING_SWEEPS {
         let mut hit = 0;
         for i in 0..bodies.len() {
-            hit += resolve(i, bodies, &walls, settings, broad, work, &mut stats);
+            if !bodies[i].asleep(settings) {
+                hit += resolve(i, bodies, &walls, settings, broad, work, &mut stats);
+            }
         }
         if hit == 0 {
             break;
         }
     }
+    if settings.sleep_radius > 0.0 {
+        update_sleep(bodies, settings, broad, work);
+    }
     stats
+}
+
+/// Counts calm steps, and wakes the sleepers near a grain that moved far this step (the grain
+/// under them may have gone).
+fn update_sleep<B: BroadPhase>(
+    bodies: &mut [Body],
+    settings: &Settings,
+    broad: &mut B,
+    work: &mut Workspace,
+) {
+    let radius = settings.sleep_radius;
+    for i in 0..bodies.len() {
+        let b = &mut bodies[i];
+        if b.asleep(settings) {
+            continue;
+        }
+        if (b.center - b.anchor).norm() <= radius {
+            b.calm = b.calm.saturating_add(1);
+            if b.calm == settings.sleep_steps {
+                // Falls asleep at rest: when woken, it starts from zero velocity.
+                b.previous_center = b.center;
+                b.previous_angle = b.angle;
+            }
+        } else {
+            b.anchor = b.center;
+            b.calm = 0;
+        }
+        if (b.center - work.start[i]).norm() > radius {
+            work.candidates.clear();
+            broad.candidates(i, &work.boxes, &mut work.candidates);
+            for &j in &work.candidates {
+                if bodies[j].asleep(settings) {
+                    bodies[j].calm = 0;
+                }
+            }
+        }
+    }
 }
 
 /// Relaxation sweeps over all grains at the end of a step.
@@ -286,11 +357,19 @@ fn resolve<B: BroadPhase>(
         if let Some(p) = grain_contact(settings, &bodies[i], &bodies[j]).penetration {
             let away = bodies[i].center - bodies[j].center;
             let a_push = safe_push(p.a_push, away, cap(&bodies[i]));
-            let b_push = safe_push(p.b_push, -away, cap(&bodies[j]));
-            project(&mut bodies[i], p.a_deepest, a_push, 0.5, settings.slop);
-            project(&mut bodies[j], p.b_deepest, b_push, 0.5, settings.slop);
+            if bodies[j].asleep(settings) && a_push.norm() <= settings.slop {
+                // A sleeper holds like a wall: the awake grain takes the whole correction.
+                project(&mut bodies[i], p.a_deepest, a_push, 1.0, settings.slop);
+            } else {
+                if bodies[j].asleep(settings) {
+                    bodies[j].calm = 0;
+                }
+                let b_push = safe_push(p.b_push, -away, cap(&bodies[j]));
+                project(&mut bodies[i], p.a_deepest, a_push, 0.5, settings.slop);
+                project(&mut bodies[j], p.b_deepest, b_push, 0.5, settings.slop);
+                work.boxes[j] = bodies[j].bounding_box();
+            }
             work.boxes[i] = bodies[i].bounding_box();
-            work.boxes[j] = bodies[j].bounding_box();
             hit += 1;
         }
     }

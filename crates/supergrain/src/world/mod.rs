@@ -216,6 +216,14 @@ impl World {
             .collect();
     }
 
+    /// How many grains sleep (see [`Settings::sleep_radius`]).
+    pub fn asleep(&self) -> usize {
+        self.bodies
+            .iter()
+            .filter(|b| b.asleep(&self.settings))
+            .count()
+    }
+
     /// The largest grain speed over the last step.
     pub fn max_speed(&self) -> f64 {
         (0..self.bodies.len())

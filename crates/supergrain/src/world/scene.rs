@@ -187,6 +187,8 @@ impl Scene {
             gravity: s.gravity.map_or(defaults.gravity, |v| v.0),
             max_iterations: s.max_iterations.unwrap_or(defaults.max_iterations),
             slop: s.slop.map_or(defaults.slop, |v| v.0),
+            sleep_radius: s.sleep_radius.map_or(defaults.sleep_radius, |v| v.0),
+            sleep_steps: s.sleep_steps.unwrap_or(defaults.sleep_steps),
             precision: Precision::new(depth, s.eps.map_or(0.0, |v| v.0))
                 .map_err(|e| invalid(0..0, format!("solver: {e}")))?,
             rotation: s.rotation.unwrap_or(defaults.rotation.into()).into(),
@@ -307,6 +309,8 @@ struct SolverSpec {
     gravity: Option<NonNegative>,
     max_iterations: Option<u32>,
     slop: Option<NonNegative>,
+    sleep_radius: Option<NonNegative>,
+    sleep_steps: Option<u32>,
     depth: Option<toml::Spanned<u32>>,
     eps: Option<NonNegative>,
     rotation: Option<RotationSpec>,
