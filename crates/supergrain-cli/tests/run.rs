@@ -1354,3 +1354,57 @@ fn svg_picture_has_one_outline_per_grain() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Running until rest
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn until_rest_stops_early_with_every_grain_slower_than_the_rest_speed() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "few.toml", TINY_CIRCLES);
+    let dump = dir.path().join("rest.json");
+    let cap = "20000";
+    let err = ok(&sg(&[
+        "run",
+        p(&scene),
+        "--until-rest",
+        "--steps",
+        cap,
+        "--dump",
+        p(&dump),
+    ]));
+    assert!(err.contains("at rest at step"), "summary: {err}");
+    let d = read_json(&dump);
+    let step = num(&d["step"]);
+    assert!(step < 20000.0, "ran to the cap: step {step}");
+    let gs = grains(&d);
+    assert_eq!(gs.len(), 6, "every grain has appeared");
+    for (i, part) in d["particles"].as_array().unwrap().iter().enumerate() {
+        let [vx, vy] = pair(&part["velocity"]);
+        assert!(vx.hypot(vy) < 0.05, "grain {i} moves at {vx}, {vy}");
+    }
+    check_circles_in_box_and_apart(&gs, &walls(&d), 0.02);
+
+    // Too few steps to rest: it says so, and still writes what it did.
+    let err = ok(&sg(&[
+        "run",
+        p(&scene),
+        "--until-rest",
+        "--steps",
+        "30",
+        "--dump",
+        p(&dump),
+    ]));
+    assert!(err.contains("not at rest after 30 steps"), "summary: {err}");
+    assert_eq!(num(&read_json(&dump)["step"]), 30.0);
+
+    // A usage error (clap's exit code 2), naming the option.
+    let o = sg(&["run", p(&scene), "--rest-speed", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(
+        err.contains("--rest-speed") && !err.contains("panicked"),
+        "{err}"
+    );
+}
