@@ -4,6 +4,8 @@
 mod bench;
 mod contact;
 mod output;
+mod picture;
+mod render;
 mod run;
 
 use std::process::ExitCode;
@@ -28,6 +30,8 @@ struct Cli {
 enum Command {
     /// Pour grains into the box: a scene file, one of the paper's presets, or a dump to resume.
     Run(run::Args),
+    /// Draw a state written by `run --dump` as a PNG, with optional overlays.
+    Render(render::Args),
     /// Test two superellipses for contact: deepest points and penetration vectors.
     Contact(contact::Args),
     /// Measure performance and print a table (or JSON).
@@ -39,6 +43,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(args),
+        Command::Render(args) => render::run(args),
         Command::Contact(args) => contact::run(args),
         Command::Bench(b) => bench::run(b),
     };

@@ -8,12 +8,13 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use supergrain::io::{Dump, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
-use supergrain::render::world_svg;
+use supergrain::io::{Dump, GifWriter, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
+use supergrain::render::{render_world, world_svg};
 use supergrain::solver::NarrowPhase;
 use supergrain::world::{PRESETS, Scene, World};
 
 use crate::output::Output;
+use crate::picture::{PictureArgs, save_frame, save_png};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum NarrowPhaseArg {
@@ -26,7 +27,8 @@ enum NarrowPhaseArg {
 #[derive(Parser)]
 #[command(after_help = "\
 Examples:
-  supergrain run --preset circles --dump circles.json --svg circles.svg
+  supergrain run --preset circles --dump circles.json --png circles.png
+  supergrain run --preset mixed --gif mixed.gif --every 20 --width 400
   supergrain run examples/scenes/mixed.toml --steps 2000 --trajectory mixed.csv --every 20
   supergrain run --resume circles.json --steps 1000 --dump circles-later.json
   supergrain run --preset circles --narrow-phase analytic
@@ -59,6 +61,20 @@ pub struct Args {
     /// Draw the final state as an SVG picture.
     #[arg(long, value_name = "FILE.svg")]
     svg: Option<PathBuf>,
+    /// Draw the final state as a PNG (the paper's anti-aliased quadtree renderer).
+    #[arg(long, value_name = "FILE.png")]
+    png: Option<PathBuf>,
+    /// Write an animated GIF, a frame every --every steps.
+    #[arg(long, value_name = "FILE.gif")]
+    gif: Option<PathBuf>,
+    /// Write a PNG per frame (every --every steps) into DIR.
+    #[arg(long, value_name = "DIR")]
+    frames: Option<PathBuf>,
+    /// Frames per second of the GIF.
+    #[arg(long, default_value_t = 25.0, value_parser = positive_speed)]
+    fps: f64,
+    #[command(flatten)]
+    picture: PictureArgs,
     /// Write a CSV row per grain every --every steps.
     #[arg(long, value_name = "FILE.csv")]
     trajectory: Option<PathBuf>,
@@ -73,7 +89,7 @@ pub struct Args {
     /// g h / delta with the paper's settings).
     #[arg(long, default_value_t = 0.05, value_name = "SPEED", value_parser = positive_speed)]
     rest_speed: f64,
-    /// Steps between frames of --trajectory and --vtk.
+    /// Steps between frames of --trajectory, --vtk, --gif and --frames.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
     every: u64,
     /// No summary.
@@ -95,6 +111,16 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(dir) = &args.vtk {
         prepare_dir(dir)?;
     }
+    if let Some(dir) = &args.frames {
+        prepare_dir(dir)?;
+    }
+    let png = Output::optional(args.png.as_deref())?;
+    let mut gif_out = Output::optional(args.gif.as_deref())?;
+    let mut gif = match gif_out.as_mut() {
+        Some(out) => Some(GifWriter::new(out, args.fps, 10).context("cannot start the GIF")?),
+        None => None,
+    };
+    let style = args.picture.style();
 
     let bar = ProgressBar::new(steps).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {per_sec}, eta {eta} {msg}")
@@ -104,13 +130,24 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let mut contacts = 0u64;
     let mut calm = 0u64;
     let mut done = 0u64;
-    frame(&world, &args, trajectory.as_mut())?;
+    let mut frame = |world: &World, trajectory: Option<&mut Output>| -> Result<()> {
+        write_frame(world, &args, trajectory)?;
+        if let Some(dir) = &args.frames {
+            save_frame(world, &style, dir)?;
+        }
+        if let Some(g) = gif.as_mut() {
+            g.push(&render_world(world, &style))
+                .context("cannot write the GIF")?;
+        }
+        Ok(())
+    };
+    frame(&world, trajectory.as_mut())?;
     for k in 1..=steps {
         let stats = world.step();
         done = k;
         contacts += stats.contacts as u64;
         if k % args.every == 0 {
-            frame(&world, &args, trajectory.as_mut())?;
+            frame(&world, trajectory.as_mut())?;
         }
         let fastest = world.max_speed();
         calm = if world.all_spawned() && fastest < args.rest_speed {
@@ -131,13 +168,21 @@ pub fn run(args: Args) -> Result<ExitCode> {
         }
     }
     if args.until_rest && done % args.every != 0 {
-        frame(&world, &args, trajectory.as_mut())?;
+        frame(&world, trajectory.as_mut())?;
     }
+    drop(frame);
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
 
     if let Some(t) = trajectory {
         t.finish()?;
+    }
+    drop(gif);
+    if let Some(g) = gif_out {
+        g.finish()?;
+    }
+    if let Some(out) = png {
+        save_png(&world, &style, out)?;
     }
     if let Some(mut picture) = svg {
         picture.write_all(world_svg(&world, 800).as_bytes())?;
@@ -256,7 +301,7 @@ fn prepare_dir(dir: &Path) -> Result<()> {
 }
 
 /// Writes one frame of the trajectory and of the VTK series.
-fn frame(world: &World, args: &Args, trajectory: Option<&mut Output>) -> Result<()> {
+fn write_frame(world: &World, args: &Args, trajectory: Option<&mut Output>) -> Result<()> {
     if let Some(t) = trajectory {
         write_trajectory_frame(world, t)?;
     }

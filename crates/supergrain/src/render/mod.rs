@@ -1,8 +1,12 @@
-//! Pictures, as SVG for now: a collision test with its quadtree cells by class, deepest points
-//! and penetration vectors (paper Figs. 2, 3, 6), and a whole world (paper Figs. 10-13).
+//! Pictures: the paper's anti-aliased quadtree renderer ([`raster`]) and whole frames with
+//! overlays ([`render_world`]), plus SVG diagrams of a collision test with its quadtree cells by
+//! class, deepest points and penetration vectors (paper Figs. 2, 3, 6) and of a whole world.
 
 mod contact_svg;
+mod frame;
+pub mod raster;
 mod world_svg;
 
 pub use contact_svg::contact_svg;
+pub use frame::{Colouring, Style, exponent_colour, render_world, world_region};
 pub use world_svg::world_svg;

@@ -1,24 +1,19 @@
 use std::fmt::Write;
 
+use super::{exponent_colour, world_region};
 use crate::world::World;
 
 /// The world as an SVG picture `width` pixels wide: the box's walls and floor, and every grain
 /// filled with a colour from its exponents (stars red, diamonds orange, ellipses green, blocks
-/// blue). Vector outlines from the parametric boundary; the anti-aliased quadtree renderer of
-/// paper II-B is the next step.
+/// blue). Vector outlines from the parametric boundary; [`super::render_world`] paints the
+/// same with the paper's anti-aliased quadtree renderer.
 pub fn world_svg(world: &World, width: u32) -> String {
     let w = world.walls;
-    // Up to the spawn height, or the highest grain if one reaches above it.
-    let highest = world
-        .bodies
-        .iter()
-        .map(|b| b.bounding_box().max.y)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let top = world.top.max(highest).max(w.floor + 1.0);
+    let region = world_region(world);
     let (x0, x1) = (w.left, w.right);
-    let margin = 0.04 * (x1 - x0);
-    let (vx, vy) = (x0 - margin, w.floor - margin);
-    let (vw, vh) = (x1 - x0 + 2.0 * margin, top - w.floor + 2.0 * margin);
+    let top = region.max.y;
+    let (vx, vy) = (region.min.x, region.min.y);
+    let (vw, vh) = (region.width(), region.height());
     let scale = f64::from(width) / vw;
     let height = (vh * scale).ceil() as u32;
     let px = |x: f64, y: f64| ((x - vx) * scale, (vy + vh - y) * scale);
@@ -43,16 +38,8 @@ pub fn world_svg(world: &World, width: u32) -> String {
                 format!("{x:.1},{y:.1}")
             })
             .collect();
-        let e = b.shape.exponents()[0].min(b.shape.exponents()[1]);
-        let colour = if e < 1.0 {
-            "#e53935"
-        } else if e < 2.0 {
-            "#fb8c00"
-        } else if e <= 2.0 {
-            "#43a047"
-        } else {
-            "#1e88e5"
-        };
+        let [r, g, bl, _] = exponent_colour(&b.shape);
+        let colour = format!("#{r:02x}{g:02x}{bl:02x}");
         let _ = writeln!(
             svg,
             r##"<polygon points="{}" fill="{colour}" fill-opacity="0.85" stroke="#263238" stroke-width="0.8"/>"##,

@@ -1,0 +1,67 @@
+//! Picture options shared by `run` and `render`.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use clap::{Args, ValueEnum};
+use supergrain::io::write_png;
+use supergrain::render::raster::MAX_AA_DEPTH;
+use supergrain::render::{Colouring, Style, render_world};
+use supergrain::world::World;
+
+use crate::output::Output;
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum ColourArg {
+    /// By shape class: stars red, diamond-like orange, ellipses green, blocky blue.
+    Exponent,
+    /// A palette cycled by grain, so neighbours differ.
+    Palette,
+}
+
+#[derive(Args, Clone)]
+pub struct PictureArgs {
+    /// Width of PNG and GIF pictures in pixels (the height follows the box).
+    #[arg(long, default_value_t = 800, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub width: u32,
+    /// How grains are coloured.
+    #[arg(long, value_enum, default_value = "exponent")]
+    pub colour: ColourArg,
+    /// Anti-aliasing: boundary pixels are split in four this many times (the paper: 1).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=MAX_AA_DEPTH as i64))]
+    pub aa: u32,
+    /// Overlay bounding boxes and, filled, where they overlap (paper Figs. 4, 5).
+    #[arg(long)]
+    pub boxes: bool,
+    /// Overlay deepest points and penetration vectors of every contact (paper Figs. 6-8).
+    #[arg(long)]
+    pub contacts: bool,
+}
+
+impl PictureArgs {
+    pub fn style(&self) -> Style {
+        Style {
+            width: self.width,
+            colouring: match self.colour {
+                ColourArg::Exponent => Colouring::Exponent,
+                ColourArg::Palette => Colouring::Palette,
+            },
+            aa_depth: self.aa,
+            boxes: self.boxes,
+            contacts: self.contacts,
+            ..Style::default()
+        }
+    }
+}
+
+/// Renders a world into an opened output, as PNG, and renames it into place.
+pub fn save_png(world: &World, style: &Style, mut out: Output) -> Result<()> {
+    write_png(&render_world(world, style), &mut out).context("cannot encode the PNG")?;
+    out.finish()
+}
+
+/// Writes one PNG into a folder of frames, named by step.
+pub fn save_frame(world: &World, style: &Style, dir: &Path) -> Result<()> {
+    let path = dir.join(format!("frame_{:08}.png", world.step));
+    save_png(world, style, Output::open(Some(&path))?)
+}

@@ -1,0 +1,259 @@
+//! A whole world as a picture: grains painted by the interval renderer ([`super::raster`]),
+//! walls and overlays stroked with tiny-skia (lines and rectangles are what a vector
+//! rasteriser does well).
+
+use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
+
+use super::raster::{DEFAULT_AA_DEPTH, Rgba, View, paint_shape};
+use crate::geometry::{Aabb, Vec2};
+use crate::interval::PlacedSuperellipse;
+use crate::shape::Superellipse;
+use crate::solver::{grain_contact, wall_contact};
+use crate::world::World;
+
+/// How grains are coloured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Colouring {
+    /// By shape class, from the smaller exponent: stars red, diamond-like orange, ellipses
+    /// green, blocky blue (as the README's pictures).
+    Exponent,
+    /// A fixed palette cycled by grain index, so neighbours differ.
+    Palette,
+    /// One colour for all.
+    Uniform(Rgba),
+}
+
+/// What a frame shows.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Style {
+    /// Image width in pixels; the height follows the region's aspect ratio.
+    pub width: u32,
+    /// The part of the plane shown; `None`: the box up to where grains appear (or the highest
+    /// grain), with a small margin.
+    pub region: Option<Aabb>,
+    pub background: Rgba,
+    pub colouring: Colouring,
+    /// Anti-aliasing levels for boundary pixels (the paper's: 1).
+    pub aa_depth: u32,
+    /// Draw the box's walls and floor.
+    pub walls: bool,
+    /// Overlay every grain's bounding box and, filled, the intersections of overlapping boxes
+    /// (paper Figs. 4, 5).
+    pub boxes: bool,
+    /// Overlay the deepest points and penetration vectors of every contact (paper Figs. 6-8).
+    pub contacts: bool,
+}
+
+impl Default for Style {
+    fn default() -> Self {
+        Style {
+            width: 800,
+            region: None,
+            background: [250, 250, 250, 255],
+            colouring: Colouring::Exponent,
+            aa_depth: DEFAULT_AA_DEPTH,
+            walls: true,
+            boxes: false,
+            contacts: false,
+        }
+    }
+}
+
+/// The colour of a shape by class (see [`Colouring::Exponent`]).
+pub fn exponent_colour(shape: &Superellipse) -> Rgba {
+    let e = shape.exponents()[0].min(shape.exponents()[1]);
+    if e < 1.0 {
+        [0xe5, 0x39, 0x35, 255]
+    } else if e < 2.0 {
+        [0xfb, 0x8c, 0x00, 255]
+    } else if e <= 2.0 {
+        [0x43, 0xa0, 0x47, 255]
+    } else {
+        [0x1e, 0x88, 0xe5, 255]
+    }
+}
+
+const PALETTE: [Rgba; 8] = [
+    [0x1e, 0x88, 0xe5, 255],
+    [0xe5, 0x39, 0x35, 255],
+    [0x43, 0xa0, 0x47, 255],
+    [0xfb, 0x8c, 0x00, 255],
+    [0x8e, 0x24, 0xaa, 255],
+    [0x00, 0xac, 0xc1, 255],
+    [0x6d, 0x4c, 0x41, 255],
+    [0xc0, 0xca, 0x33, 255],
+];
+
+/// The default region of a world: the box up to where grains appear, or the highest grain.
+pub fn world_region(world: &World) -> Aabb {
+    let w = world.walls;
+    let highest = world
+        .bodies
+        .iter()
+        .map(|b| b.bounding_box().max.y)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let top = world.top.max(highest).max(w.floor + 1.0);
+    let margin = 0.04 * (w.right - w.left);
+    Aabb::new(
+        Vec2::new(w.left - margin, w.floor - margin),
+        Vec2::new(w.right + margin, top + margin),
+    )
+}
+
+/// Draws a world.
+pub fn render_world(world: &World, style: &Style) -> Pixmap {
+    let view = View::fit(
+        style.region.unwrap_or_else(|| world_region(world)),
+        style.width,
+    );
+    let mut pixmap = Pixmap::new(view.width, view.height).expect("a non-empty image");
+    let [r, g, b, a] = style.background;
+    pixmap.fill(Color::from_rgba8(r, g, b, a));
+    for (i, body) in world.bodies.iter().enumerate() {
+        let colour = match style.colouring {
+            Colouring::Exponent => exponent_colour(&body.shape),
+            Colouring::Palette => PALETTE[i % PALETTE.len()],
+            Colouring::Uniform(c) => c,
+        };
+        let placed = PlacedSuperellipse::new(body.shape, body.pose());
+        paint_shape(pixmap.data_mut(), &view, &placed, colour, style.aa_depth);
+    }
+    let mut pen = Pen::new(&view);
+    if style.walls {
+        let w = world.walls;
+        let top = view.region.max.y;
+        pen.polyline(
+            &mut pixmap,
+            &[
+                Vec2::new(w.left, top),
+                Vec2::new(w.left, w.floor),
+                Vec2::new(w.right, w.floor),
+                Vec2::new(w.right, top),
+            ],
+            [0x37, 0x47, 0x4f, 255],
+            3.0,
+        );
+    }
+    if style.boxes {
+        let boxes: Vec<Aabb> = world.bodies.iter().map(|b| b.bounding_box()).collect();
+        for (i, bi) in boxes.iter().enumerate() {
+            for bj in &boxes[i + 1..] {
+                if let Some(common) = bi.intersection(bj) {
+                    pen.fill_box(&mut pixmap, &common, [0xff, 0xc1, 0x07, 110]);
+                }
+            }
+        }
+        for bb in &boxes {
+            pen.stroke_box(&mut pixmap, bb, [0x26, 0x32, 0x38, 200], 1.0);
+        }
+    }
+    if style.contacts {
+        draw_contacts(world, &mut pixmap, &mut pen);
+    }
+    pixmap
+}
+
+/// Deepest points (dots) and penetration vectors (lines) of every grain-grain and grain-wall
+/// contact, as the solver sees them.
+fn draw_contacts(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
+    let vector = [0xd8, 0x1b, 0x60, 255];
+    let point = [0x21, 0x21, 0x21, 255];
+    let boxes: Vec<Aabb> = world.bodies.iter().map(|b| b.bounding_box()).collect();
+    for (i, a) in world.bodies.iter().enumerate() {
+        for (j, b) in world.bodies.iter().enumerate().skip(i + 1) {
+            if !boxes[i].intersects(&boxes[j]) {
+                continue;
+            }
+            if let Some(p) = grain_contact(&world.settings, a, b).penetration {
+                for (from, push) in [(p.a_deepest, p.a_push), (p.b_deepest, p.b_push)] {
+                    pen.polyline(pixmap, &[from, from + push], vector, 1.5);
+                    pen.dot(pixmap, from, point, 2.0);
+                }
+            }
+        }
+        for wall in &world.walls.half_planes() {
+            if let Some(p) = wall_contact(&world.settings, a, wall).penetration {
+                pen.polyline(pixmap, &[p.deepest, p.deepest + p.push], vector, 1.5);
+                pen.dot(pixmap, p.deepest, point, 2.0);
+            }
+        }
+    }
+}
+
+/// Strokes and fills in plane coordinates.
+struct Pen {
+    view: View,
+    paint: Paint<'static>,
+}
+
+impl Pen {
+    fn new(view: &View) -> Pen {
+        let mut paint = Paint::default();
+        paint.anti_alias = true;
+        Pen { view: *view, paint }
+    }
+
+    fn colour(&mut self, c: Rgba) {
+        self.paint
+            .set_color(Color::from_rgba8(c[0], c[1], c[2], c[3]));
+    }
+
+    fn polyline(&mut self, pixmap: &mut Pixmap, points: &[Vec2], c: Rgba, width: f32) {
+        let mut pb = PathBuilder::new();
+        for (k, p) in points.iter().enumerate() {
+            let (x, y) = self.view.to_pixel(*p);
+            if k == 0 {
+                pb.move_to(x, y);
+            } else {
+                pb.line_to(x, y);
+            }
+        }
+        if let Some(path) = pb.finish() {
+            self.colour(c);
+            let stroke = Stroke {
+                width,
+                ..Stroke::default()
+            };
+            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
+        }
+    }
+
+    fn rect(&self, b: &Aabb) -> Option<Rect> {
+        let (x0, y0) = self.view.to_pixel(Vec2::new(b.min.x, b.max.y));
+        let (x1, y1) = self.view.to_pixel(Vec2::new(b.max.x, b.min.y));
+        Rect::from_ltrb(x0, y0, x1.max(x0 + 0.5), y1.max(y0 + 0.5))
+    }
+
+    fn fill_box(&mut self, pixmap: &mut Pixmap, b: &Aabb, c: Rgba) {
+        if let Some(r) = self.rect(b) {
+            self.colour(c);
+            pixmap.fill_rect(r, &self.paint, Transform::identity(), None);
+        }
+    }
+
+    fn stroke_box(&mut self, pixmap: &mut Pixmap, b: &Aabb, c: Rgba, width: f32) {
+        if let Some(r) = self.rect(b) {
+            let path = PathBuilder::from_rect(r);
+            self.colour(c);
+            let stroke = Stroke {
+                width,
+                ..Stroke::default()
+            };
+            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
+        }
+    }
+
+    fn dot(&mut self, pixmap: &mut Pixmap, p: Vec2, c: Rgba, radius: f32) {
+        let (x, y) = self.view.to_pixel(p);
+        if let Some(path) = PathBuilder::from_circle(x, y, radius) {
+            self.colour(c);
+            pixmap.fill_path(
+                &path,
+                &self.paint,
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
+        }
+    }
+}

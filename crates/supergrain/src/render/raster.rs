@@ -1,0 +1,189 @@
+//! The paper's renderer (II-B, SPEC §6): the same interval classification that finds contacts
+//! paints the grains. A quadtree over the pixels a grain's box covers: a block proven inside
+//! takes the grain's colour whole, a block proven outside is skipped, and a boundary pixel is
+//! split in four and its parts classified again (anti-aliasing), down to `aa_depth` levels;
+//! a part still on the boundary at the last level counts by the sign at its centre.
+//!
+//! Written by hand because it is the heart of the paper's method: a polygon rasteriser would
+//! need a boundary polyline, and for stars (exponent < 1) a fine one, while this needs only
+//! the implicit function and costs a handful of enclosures per boundary pixel.
+
+use crate::geometry::{Aabb, Vec2};
+use crate::interval::ImplicitShape;
+
+/// A rectangle of the plane mapped onto `width x height` pixels; pixel `(0, 0)` is the top-left
+/// one, `y` grows upwards in the plane and downwards in the image.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View {
+    pub region: Aabb,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl View {
+    /// `region` drawn `width` pixels wide, the height following its aspect ratio.
+    pub fn fit(region: Aabb, width: u32) -> View {
+        let height = (region.height() / region.width() * f64::from(width))
+            .round()
+            .max(1.0) as u32;
+        View {
+            region,
+            width: width.max(1),
+            height,
+        }
+    }
+
+    /// The size of a pixel in the plane.
+    pub fn pixel(&self) -> Vec2 {
+        Vec2::new(
+            self.region.width() / f64::from(self.width),
+            self.region.height() / f64::from(self.height),
+        )
+    }
+
+    /// The plane's box of pixels `[x0, x1) x [y0, y1)`.
+    pub fn cell(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> Aabb {
+        let p = self.pixel();
+        let top = self.region.max.y;
+        Aabb::new(
+            Vec2::new(
+                self.region.min.x + f64::from(x0) * p.x,
+                top - f64::from(y1) * p.y,
+            ),
+            Vec2::new(
+                self.region.min.x + f64::from(x1) * p.x,
+                top - f64::from(y0) * p.y,
+            ),
+        )
+    }
+
+    /// Where a point of the plane falls in the image, in pixels (fractional).
+    pub fn to_pixel(&self, q: Vec2) -> (f32, f32) {
+        let p = self.pixel();
+        (
+            ((q.x - self.region.min.x) / p.x) as f32,
+            ((self.region.max.y - q.y) / p.y) as f32,
+        )
+    }
+
+    /// The pixels `[x0, x1) x [y0, y1)` a box of the plane touches, clipped to the image;
+    /// `None` when it misses the image.
+    pub fn pixels_of(&self, b: &Aabb) -> Option<(u32, u32, u32, u32)> {
+        let b = b.intersection(&self.region)?;
+        let p = self.pixel();
+        let clamp_x = |v: f64| v.clamp(0.0, f64::from(self.width)) as u32;
+        let clamp_y = |v: f64| v.clamp(0.0, f64::from(self.height)) as u32;
+        let x0 = clamp_x(((b.min.x - self.region.min.x) / p.x).floor());
+        let x1 = clamp_x(((b.max.x - self.region.min.x) / p.x).floor() + 1.0);
+        let y0 = clamp_y(((self.region.max.y - b.max.y) / p.y).floor());
+        let y1 = clamp_y(((self.region.max.y - b.min.y) / p.y).floor() + 1.0);
+        (x0 < x1 && y0 < y1).then_some((x0, y0, x1, y1))
+    }
+}
+
+/// The paper's anti-aliasing splits a boundary pixel once (four parts); we default to twice
+/// (sixteen), which keeps every pixel's coverage within a few hundredths of the exact one.
+pub const DEFAULT_AA_DEPTH: u32 = 2;
+
+/// Deepest anti-aliasing accepted (4^8 parts per pixel).
+pub const MAX_AA_DEPTH: u32 = 8;
+
+/// Calls `paint(x, y, coverage)` for every pixel of `view` the shape covers, with the fraction
+/// of the pixel inside it (1 for pixels proven inside, `(0, 1]` on the boundary). Pixels
+/// proven outside are not visited.
+pub fn cover<S: ImplicitShape>(
+    shape: &S,
+    view: &View,
+    aa_depth: u32,
+    mut paint: impl FnMut(u32, u32, f32),
+) {
+    let aa_depth = aa_depth.min(MAX_AA_DEPTH);
+    let Some(first) = view.pixels_of(&shape.bounding_box()) else {
+        return;
+    };
+    // An explicit stack of pixel blocks; 4 per level of a tree at most 32 levels deep.
+    let mut stack = Vec::with_capacity(128);
+    stack.push(first);
+    while let Some((x0, y0, x1, y1)) = stack.pop() {
+        let f = shape.enclose(&view.cell(x0, y0, x1, y1));
+        if f.lo > 0.0 {
+            continue;
+        }
+        if f.hi < 0.0 {
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    paint(x, y, 1.0);
+                }
+            }
+            continue;
+        }
+        if x1 - x0 == 1 && y1 - y0 == 1 {
+            let c = coverage(shape, &view.cell(x0, y0, x1, y1), aa_depth);
+            if c > 0.0 {
+                paint(x0, y0, c as f32);
+            }
+            continue;
+        }
+        let (xm, ym) = (x0 + (x1 - x0).div_ceil(2), y0 + (y1 - y0).div_ceil(2));
+        for (a0, a1) in [(x0, xm), (xm, x1)] {
+            for (b0, b1) in [(y0, ym), (ym, y1)] {
+                if a0 < a1 && b0 < b1 {
+                    stack.push((a0, b0, a1, b1));
+                }
+            }
+        }
+    }
+}
+
+/// The fraction of `cell` inside the shape: four parts classified, boundary parts split again
+/// down to `depth` levels, the last ones counted by the sign at their centre.
+fn coverage<S: ImplicitShape>(shape: &S, cell: &Aabb, depth: u32) -> f64 {
+    if depth == 0 {
+        return if shape.value(cell.center()) <= 0.0 {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    let m = cell.center();
+    let mut sum = 0.0;
+    for (x0, x1) in [(cell.min.x, m.x), (m.x, cell.max.x)] {
+        for (y0, y1) in [(cell.min.y, m.y), (m.y, cell.max.y)] {
+            let part = Aabb::new(Vec2::new(x0, y0), Vec2::new(x1, y1));
+            let f = shape.enclose(&part);
+            sum += if f.hi < 0.0 {
+                1.0
+            } else if f.lo > 0.0 {
+                0.0
+            } else {
+                coverage(shape, &part, depth - 1)
+            };
+        }
+    }
+    0.25 * sum
+}
+
+/// An RGBA colour, not premultiplied.
+pub type Rgba = [u8; 4];
+
+/// Paints a shape onto a premultiplied RGBA8 pixel buffer (`tiny_skia::Pixmap`'s layout), its
+/// coverage blended over what is there ("source over").
+pub fn paint_shape<S: ImplicitShape>(
+    pixels: &mut [u8],
+    view: &View,
+    shape: &S,
+    colour: Rgba,
+    aa_depth: u32,
+) {
+    let width = view.width as usize;
+    let [r, g, b, a] = colour.map(|c| f32::from(c) / 255.0);
+    cover(shape, view, aa_depth, |x, y, c| {
+        let k = 4 * (y as usize * width + x as usize);
+        let alpha = a * c;
+        let keep = 1.0 - alpha;
+        let px = &mut pixels[k..k + 4];
+        for (d, s) in px.iter_mut().zip([r * alpha, g * alpha, b * alpha, alpha]) {
+            *d = (s * 255.0 + f32::from(*d) * keep).round().min(255.0) as u8;
+        }
+    });
+}
