@@ -188,8 +188,10 @@ struct Pen {
 
 impl Pen {
     fn new(view: &View) -> Pen {
-        let mut paint = Paint::default();
-        paint.anti_alias = true;
+        let paint = Paint {
+            anti_alias: true,
+            ..Paint::default()
+        };
         Pen { view: *view, paint }
     }
 
