@@ -170,7 +170,6 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if args.until_rest && done % args.every != 0 {
         frame(&world, trajectory.as_mut())?;
     }
-    drop(frame);
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
 
