@@ -17,6 +17,56 @@ pub enum Bench {
     /// circles through the centre-distance test (the paper's comparison), in one run; the
     /// ratio column is each run's time over the analytic circles'.
     Presets(PresetArgs),
+    /// Rendering: a frame of the 1,000-grain example (its grains laid out in rows) by the
+    /// paper's interval quadtree renderer and by tiny-skia filling 64-gons, interleaved in one
+    /// run; the ratio column is each time over the prebuilt polygon fill's.
+    Render(RenderArgs),
+}
+
+#[derive(Parser)]
+pub struct RenderArgs {
+    /// Frame width in pixels (the height follows the box).
+    #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(16..=8192))]
+    width: u32,
+    /// Timed frames per renderer; the median is reported.
+    #[arg(long, default_value_t = 15)]
+    reps: usize,
+    /// Print {"cases": [{"name", "ms"}]} instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The 1,000-grain example scene, built in so the benchmark runs from anywhere.
+const POUR_1000: &str = include_str!("../../../examples/scenes/pour-1000.toml");
+
+fn render(args: RenderArgs) -> Result<ExitCode> {
+    let scene = supergrain::world::Scene::from_toml(POUR_1000)
+        .map_err(|e| anyhow::anyhow!("the built-in scene: {e}"))?;
+    let world = supergrain::bench::laid_out(&scene);
+    let cases = supergrain::bench::render_cases(&world, args.width, args.reps);
+    if args.json {
+        let cases: Vec<_> = cases
+            .iter()
+            .map(|c| serde_json::json!({ "name": c.name, "ms": c.ms }))
+            .collect();
+        println!(
+            "{}",
+            serde_json::json!({ "grains": world.bodies.len(), "width": args.width, "cases": cases })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let floor = cases.last().map_or(f64::NAN, |c| c.ms);
+    println!(
+        "{} grains, {} px wide, median of {} frames",
+        world.bodies.len(),
+        args.width,
+        args.reps
+    );
+    println!("{:<36} {:>10} {:>12}", "renderer", "ms/frame", "x polygons");
+    for c in &cases {
+        println!("{:<36} {:>10.2} {:>12.2}", c.name, c.ms, c.ms / floor);
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 #[derive(Parser)]
@@ -52,6 +102,7 @@ pub fn run(b: Bench) -> Result<ExitCode> {
     match b {
         Bench::Contact(args) => contact(args),
         Bench::Presets(args) => presets(args),
+        Bench::Render(args) => render(args),
     }
 }
 

@@ -5,7 +5,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use supergrain::io::write_png;
-use supergrain::render::raster::MAX_AA_DEPTH;
+use supergrain::render::raster::{Antialias, MAX_AA_DEPTH};
 use supergrain::render::{Colouring, Style, render_world};
 use supergrain::world::World;
 
@@ -27,9 +27,11 @@ pub struct PictureArgs {
     /// How grains are coloured.
     #[arg(long, value_enum, default_value = "exponent")]
     pub colour: ColourArg,
-    /// Anti-aliasing: boundary pixels are split in four this many times (the paper: 1).
-    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=MAX_AA_DEPTH as i64))]
-    pub aa: u32,
+    /// Anti-aliasing by the paper's method: boundary pixels split in four this many times and
+    /// the parts classified (the paper: 1) [default: the coverage of the tangent line at each
+    /// boundary pixel, from the value and gradient there].
+    #[arg(long, value_name = "LEVELS", value_parser = clap::value_parser!(u32).range(0..=MAX_AA_DEPTH as i64))]
+    pub aa: Option<u32>,
     /// Overlay bounding boxes and, filled, where they overlap (paper Figs. 4, 5).
     #[arg(long)]
     pub boxes: bool,
@@ -46,7 +48,7 @@ impl PictureArgs {
                 ColourArg::Exponent => Colouring::Exponent,
                 ColourArg::Palette => Colouring::Palette,
             },
-            aa_depth: self.aa,
+            antialias: self.aa.map_or(Antialias::Gradient, Antialias::Split),
             boxes: self.boxes,
             contacts: self.contacts,
             ..Style::default()

@@ -274,3 +274,134 @@ pub fn preset_cases(steps: u64) -> Vec<PresetResult> {
         })
         .collect()
 }
+
+/// A scene's grains laid out without simulating: in rows from the floor up, left to right, each
+/// grain in a cell as wide as the largest box, at its drawn angle (a frame to draw, for the
+/// renderer's benchmark).
+pub fn laid_out(scene: &crate::world::Scene) -> crate::world::World {
+    use crate::solver::Body;
+    let world = crate::world::World::new(scene);
+    let w = scene.walls;
+    let cell = world
+        .pending
+        .iter()
+        .map(|p| p.shape.bounding_radius())
+        .fold(0.0, f64::max)
+        * 2.0;
+    let per_row = (((w.right - w.left) / cell).floor() as usize).max(1);
+    let bodies = world
+        .pending
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let (col, row) = ((k % per_row) as f64, (k / per_row) as f64);
+            let c = Vec2::new(w.left + (col + 0.5) * cell, w.floor + (row + 0.5) * cell);
+            Body::at_rest(p.shape, &Pose::from_parts(c, p.angle))
+        })
+        .collect();
+    crate::world::World::from_parts(bodies, w, scene.settings, 0, scene.top, Default::default())
+}
+
+/// One way of drawing a frame, measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderResult {
+    pub name: &'static str,
+    /// Median milliseconds per frame.
+    pub ms: f64,
+}
+
+/// Draws the grains of `world` on a `width`-pixel frame of its region, every way, interleaved
+/// `reps` times: the interval renderer with tangent-line, two-level and the paper's one-level
+/// anti-aliasing, and
+/// tiny-skia filling anti-aliased 64-gons (with the polygons built each frame from the
+/// parametric boundary, and prebuilt).
+pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec<RenderResult> {
+    use crate::interval::PlacedSuperellipse;
+    use crate::render::raster::{Antialias, View, paint_shape_with};
+    use crate::render::{exponent_colour, world_region};
+    use tiny_skia::{Color, FillRule, Paint, Path, PathBuilder, Pixmap, Transform};
+
+    let view = View::fit(world_region(world), width);
+    let mut pixmap = Pixmap::new(view.width, view.height).expect("a non-empty frame");
+    let polygon = |b: &crate::solver::Body| -> Option<Path> {
+        let pose = b.pose();
+        let mut pb = PathBuilder::new();
+        for i in 0..64 {
+            let p = pose.to_world(
+                b.shape
+                    .boundary_point(f64::from(i) * std::f64::consts::TAU / 64.0),
+            );
+            let (x, y) = view.to_pixel(p);
+            if i == 0 {
+                pb.move_to(x, y);
+            } else {
+                pb.line_to(x, y);
+            }
+        }
+        pb.close();
+        pb.finish()
+    };
+    let fill = |pixmap: &mut Pixmap, path: &Path, c: [u8; 4]| {
+        let paint = Paint {
+            anti_alias: true,
+            shader: tiny_skia::Shader::SolidColor(Color::from_rgba8(c[0], c[1], c[2], c[3])),
+            ..Paint::default()
+        };
+        pixmap.fill_path(path, &paint, FillRule::Winding, Transform::identity(), None);
+    };
+    let prebuilt: Vec<Option<Path>> = world.bodies.iter().map(polygon).collect();
+    let names = [
+        "interval quadtree, tangent-line aa",
+        "interval quadtree, split aa 2",
+        "interval quadtree, split aa 1 (paper)",
+        "tiny-skia 64-gons, built per frame",
+        "tiny-skia 64-gons, prebuilt",
+    ];
+    let mut times = vec![Vec::with_capacity(reps); names.len()];
+    for rep in 0..=reps.max(1) {
+        for (case, t) in times.iter_mut().enumerate() {
+            pixmap.fill(Color::WHITE);
+            let start = Instant::now();
+            for (b, pre) in world.bodies.iter().zip(&prebuilt) {
+                let colour = exponent_colour(&b.shape);
+                match case {
+                    0..=2 => {
+                        let placed = PlacedSuperellipse::new(b.shape, b.pose());
+                        let aa = [
+                            Antialias::Gradient,
+                            Antialias::Split(2),
+                            Antialias::Split(1),
+                        ][case];
+                        paint_shape_with(pixmap.data_mut(), &view, &placed, colour, aa);
+                    }
+                    3 => {
+                        if let Some(path) = polygon(b) {
+                            fill(&mut pixmap, &path, colour);
+                        }
+                    }
+                    _ => {
+                        if let Some(path) = pre {
+                            fill(&mut pixmap, path, colour);
+                        }
+                    }
+                }
+            }
+            black_box(pixmap.data());
+            // The first round warms up and is not counted.
+            if rep > 0 {
+                t.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    names
+        .iter()
+        .zip(times)
+        .map(|(name, mut t)| {
+            t.sort_by(f64::total_cmp);
+            RenderResult {
+                name,
+                ms: t[t.len() / 2],
+            }
+        })
+        .collect()
+}

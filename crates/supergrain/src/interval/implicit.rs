@@ -24,6 +24,11 @@ pub trait ImplicitShape {
     /// `grad f(p)` in plain floating point.
     fn gradient(&self, p: Vec2) -> Vec2;
 
+    /// `f(p)` and `grad f(p)` together (shapes may share work between them).
+    fn value_and_gradient(&self, p: Vec2) -> (f64, Vec2) {
+        (self.value(p), self.gradient(p))
+    }
+
     /// A box holding the whole inside (possibly infinite).
     fn bounding_box(&self) -> Aabb;
 
@@ -165,6 +170,10 @@ impl ImplicitShape for PlacedSuperellipse {
 
     fn gradient(&self, p: Vec2) -> Vec2 {
         self.shape.gradient(&self.pose, p)
+    }
+
+    fn value_and_gradient(&self, p: Vec2) -> (f64, Vec2) {
+        self.shape.value_and_gradient(&self.pose, p)
     }
 
     fn bounding_box(&self) -> Aabb {

@@ -4,7 +4,7 @@
 
 use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
-use super::raster::{DEFAULT_AA_DEPTH, Rgba, View, paint_shape};
+use super::raster::{Antialias, Rgba, View, paint_shape_with};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::PlacedSuperellipse;
 use crate::shape::Superellipse;
@@ -33,8 +33,8 @@ pub struct Style {
     pub region: Option<Aabb>,
     pub background: Rgba,
     pub colouring: Colouring,
-    /// Anti-aliasing levels for boundary pixels (the paper's: 1).
-    pub aa_depth: u32,
+    /// How boundary pixels are anti-aliased (the paper's: `Split(1)`).
+    pub antialias: Antialias,
     /// Draw the box's walls and floor.
     pub walls: bool,
     /// Overlay every grain's bounding box and, filled, the intersections of overlapping boxes
@@ -51,7 +51,7 @@ impl Default for Style {
             region: None,
             background: [250, 250, 250, 255],
             colouring: Colouring::Exponent,
-            aa_depth: DEFAULT_AA_DEPTH,
+            antialias: Antialias::Gradient,
             walls: true,
             boxes: false,
             contacts: false,
@@ -116,7 +116,7 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
             Colouring::Uniform(c) => c,
         };
         let placed = PlacedSuperellipse::new(body.shape, body.pose());
-        paint_shape(pixmap.data_mut(), &view, &placed, colour, style.aa_depth);
+        paint_shape_with(pixmap.data_mut(), &view, &placed, colour, style.antialias);
     }
     let mut pen = Pen::new(&view);
     if style.walls {

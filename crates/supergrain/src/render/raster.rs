@@ -88,16 +88,41 @@ pub const DEFAULT_AA_DEPTH: u32 = 2;
 /// Deepest anti-aliasing accepted (4^8 parts per pixel).
 pub const MAX_AA_DEPTH: u32 = 8;
 
+/// How a boundary pixel's coverage is found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Antialias {
+    /// The paper's: split in four and classify the parts, boundary parts again, this many
+    /// levels; the last ones count by the sign at their centre.
+    Split(u32),
+    /// From the value and gradient at the pixel's centre: the boundary taken as a straight line
+    /// at the first-order distance `f / |grad f|`, and the pixel's exact area on the inside of
+    /// that line. One evaluation instead of up to `4 + 16` enclosures; for shapes many pixels
+    /// across it is as close as `Split(3)`. Falls back to `Split(2)` where the gradient is not
+    /// usable (zero, not finite, or the line missing the pixel the quadtree says is crossed).
+    Gradient,
+}
+
 /// Calls `paint(x, y, coverage)` for every pixel of `view` the shape covers, with the fraction
 /// of the pixel inside it (1 for pixels proven inside, `(0, 1]` on the boundary). Pixels
-/// proven outside are not visited.
+/// proven outside are not visited. Boundary pixels are split `aa_depth` times (the paper's
+/// anti-aliasing, [`Antialias::Split`]).
 pub fn cover<S: ImplicitShape>(
     shape: &S,
     view: &View,
     aa_depth: u32,
+    paint: impl FnMut(u32, u32, f32),
+) {
+    cover_with(shape, view, Antialias::Split(aa_depth), paint);
+}
+
+/// [`cover`], with the anti-aliasing chosen.
+pub fn cover_with<S: ImplicitShape>(
+    shape: &S,
+    view: &View,
+    aa: Antialias,
     mut paint: impl FnMut(u32, u32, f32),
 ) {
-    let aa_depth = aa_depth.min(MAX_AA_DEPTH);
+    let pixel = view.pixel();
     let Some(first) = view.pixels_of(&shape.bounding_box()) else {
         return;
     };
@@ -118,9 +143,29 @@ pub fn cover<S: ImplicitShape>(
             continue;
         }
         if x1 - x0 == 1 && y1 - y0 == 1 {
-            let c = coverage(shape, &view.cell(x0, y0, x1, y1), aa_depth);
+            let cell = view.cell(x0, y0, x1, y1);
+            let c = match aa {
+                Antialias::Split(depth) => coverage(shape, &cell, depth.min(MAX_AA_DEPTH)),
+                Antialias::Gradient => gradient_coverage(shape, &cell, pixel)
+                    .unwrap_or_else(|| coverage(shape, &cell, DEFAULT_AA_DEPTH)),
+            };
             if c > 0.0 {
                 paint(x0, y0, c as f32);
+            }
+            continue;
+        }
+        if aa == Antialias::Gradient && x1 - x0 <= GRADIENT_BLOCK && y1 - y0 <= GRADIENT_BLOCK {
+            // A small boundary block: the tangent line decides each pixel, inside and outside
+            // ones included, which saves classifying each pixel first.
+            for y in y0..y1 {
+                for x in x0..x1 {
+                    let cell = view.cell(x, y, x + 1, y + 1);
+                    let c = gradient_coverage(shape, &cell, pixel)
+                        .unwrap_or_else(|| coverage(shape, &cell, DEFAULT_AA_DEPTH));
+                    if c > 0.0 {
+                        paint(x, y, c as f32);
+                    }
+                }
             }
             continue;
         }
@@ -163,6 +208,54 @@ fn coverage<S: ImplicitShape>(shape: &S, cell: &Aabb, depth: u32) -> f64 {
     0.25 * sum
 }
 
+/// The pixel's area on the inside of the tangent line at the first-order boundary point, or
+/// `None` when the gradient cannot be trusted.
+fn gradient_coverage<S: ImplicitShape>(shape: &S, cell: &Aabb, pixel: Vec2) -> Option<f64> {
+    let c = cell.center();
+    let (v, g) = shape.value_and_gradient(c);
+    // In pixel units: f(c + p x) ~ v + (g . p x), p the pixel size per axis.
+    let (gx, gy) = (g.x * pixel.x, g.y * pixel.y);
+    let norm = gx.hypot(gy);
+    if !(norm.is_finite() && norm > 0.0 && v.is_finite()) {
+        return None;
+    }
+    // Inside: n . x < t, n the unit outward normal, x relative to the centre, |x_i| <= 1/2.
+    let t = -v / norm;
+    let (a, b) = {
+        let (a, b) = ((gx / norm).abs(), (gy / norm).abs());
+        if a >= b { (a, b) } else { (b, a) }
+    };
+    let w = a + b;
+    if t.abs() > 0.5 * w + 1.0 {
+        // The boundary is more than a pixel beyond the pixel at first order: only a curvature
+        // radius under about a pixel could bring it back in.
+        return Some(if t > 0.0 { 1.0 } else { 0.0 });
+    }
+    if t.abs() > 0.5 * w {
+        // The line just misses the pixel: the pixel's own enclosure decides, and a boundary
+        // pixel the line misses is too curved for a straight line.
+        let f = shape.enclose(cell);
+        return if f.hi < 0.0 {
+            Some(1.0)
+        } else if f.lo > 0.0 {
+            Some(0.0)
+        } else {
+            None
+        };
+    }
+    let u = (t + 0.5 * w).clamp(0.0, w);
+    let area = if b < 1e-12 {
+        u / a
+    } else if u <= b {
+        u * u / (2.0 * a * b)
+    } else if u <= a {
+        (u - 0.5 * b) / a
+    } else {
+        1.0 - (w - u) * (w - u) / (2.0 * a * b)
+    };
+    Some(area.clamp(0.0, 1.0))
+}
+
 /// An RGBA colour, not premultiplied.
 pub type Rgba = [u8; 4];
 
@@ -175,9 +268,20 @@ pub fn paint_shape<S: ImplicitShape>(
     colour: Rgba,
     aa_depth: u32,
 ) {
+    paint_shape_with(pixels, view, shape, colour, Antialias::Split(aa_depth));
+}
+
+/// [`paint_shape`], with the anti-aliasing chosen.
+pub fn paint_shape_with<S: ImplicitShape>(
+    pixels: &mut [u8],
+    view: &View,
+    shape: &S,
+    colour: Rgba,
+    aa: Antialias,
+) {
     let width = view.width as usize;
     let [r, g, b, a] = colour.map(|c| f32::from(c) / 255.0);
-    cover(shape, view, aa_depth, |x, y, c| {
+    cover_with(shape, view, aa, |x, y, c| {
         let k = 4 * (y as usize * width + x as usize);
         let alpha = a * c;
         let keep = 1.0 - alpha;
@@ -187,3 +291,5 @@ pub fn paint_shape<S: ImplicitShape>(
         }
     });
 }
+/// Boundary blocks this many pixels wide or less are decided pixel by pixel by the tangent line.
+const GRADIENT_BLOCK: u32 = 2;

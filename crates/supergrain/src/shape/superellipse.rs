@@ -78,6 +78,21 @@ impl Superellipse {
         pose.vector_to_world(self.local_gradient(pose.to_local(p)))
     }
 
+    /// [`value`](Self::value) and [`gradient`](Self::gradient) together, one power per axis
+    /// (`d/dt |t|^e = e |t|^e / t`).
+    pub fn value_and_gradient(&self, pose: &Pose, p: Vec2) -> (f64, Vec2) {
+        let q = pose.to_local(p);
+        let [ex, ey] = self.exponents;
+        let term = |c: f64, s: f64, e: f64| {
+            let t = c / s;
+            let m = abs_pow(t, e);
+            (m, if t == 0.0 { 0.0 } else { e * m / t / s })
+        };
+        let (mx, gx) = term(q.x, self.semi_axes.x, ex);
+        let (my, gy) = term(q.y, self.semi_axes.y, ey);
+        (mx + my - 1.0, pose.vector_to_world(Vec2::new(gx, gy)))
+    }
+
     /// The point of the boundary at parameter `t` (radians): the classic parametrisation
     /// `(s_x sgn(cos t) |cos t|^(2/e_x), s_y sgn(sin t) |sin t|^(2/e_y))`.
     pub fn boundary_point(&self, t: f64) -> Vec2 {
