@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use supergrain::io::{Dump, GifWriter, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
-use supergrain::render::{render_world, world_svg};
+use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::solver::NarrowPhase;
 use supergrain::world::{PRESETS, Scene, World};
 
@@ -120,7 +120,11 @@ pub fn run(args: Args) -> Result<ExitCode> {
         Some(out) => Some(GifWriter::new(out, args.fps, 10).context("cannot start the GIF")?),
         None => None,
     };
-    let style = args.picture.style();
+    // Frames of an animation share one view: the box up to where grains appear.
+    let style = Style {
+        region: Some(world_region(&world)),
+        ..args.picture.style()
+    };
 
     let bar = ProgressBar::new(steps).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {per_sec}, eta {eta} {msg}")

@@ -81,8 +81,9 @@ impl View {
     }
 }
 
-/// The paper's anti-aliasing splits a boundary pixel once (four parts); we default to twice
-/// (sixteen), which keeps every pixel's coverage within a few hundredths of the exact one.
+/// The paper's anti-aliasing splits a boundary pixel once (four parts); two levels (sixteen)
+/// is what [`Antialias::Gradient`] falls back to. At two levels a pixel's coverage is within
+/// 1/8 of the exact one (edges parallel to the pixel's sides are the worst), 0.03 RMS.
 pub const DEFAULT_AA_DEPTH: u32 = 2;
 
 /// Deepest anti-aliasing accepted (4^8 parts per pixel).
