@@ -201,22 +201,8 @@ impl Dump {
                 },
                 gravity: s.gravity,
                 max_iterations: s.max_iterations,
-                slop: if s.slop.is_finite() && s.slop >= 0.0 {
-                    s.slop
-                } else {
-                    return Err(DumpError::Solver(format!(
-                        "slop must be a finite number >= 0, got {}",
-                        s.slop
-                    )));
-                },
-                sleep_radius: if s.sleep_radius.is_finite() && s.sleep_radius >= 0.0 {
-                    s.sleep_radius
-                } else {
-                    return Err(DumpError::Solver(format!(
-                        "sleep_radius must be a finite number >= 0, got {}",
-                        s.sleep_radius
-                    )));
-                },
+                slop: non_negative("slop", s.slop)?,
+                sleep_radius: non_negative("sleep_radius", s.sleep_radius)?,
                 sleep_steps: s.sleep_steps,
                 precision: Precision::new(s.depth, s.eps)
                     .map_err(|e| DumpError::Solver(e.to_string()))?,
@@ -299,6 +285,16 @@ impl Dump {
         // The velocities the dump reports stay the world's until its next step.
         world.set_velocities(&velocities);
         Ok(world)
+    }
+}
+
+fn non_negative(name: &str, v: f64) -> Result<f64, DumpError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(DumpError::Solver(format!(
+            "{name} must be a finite number >= 0, got {v}"
+        )))
     }
 }
 
