@@ -3,6 +3,7 @@
 
 mod bench;
 mod contact;
+mod figures;
 mod output;
 mod picture;
 mod render;
@@ -32,6 +33,8 @@ enum Command {
     Run(run::Args),
     /// Draw a state written by `run --dump` as a PNG, with optional overlays.
     Render(render::Args),
+    /// Write every figure of the paper (2-13), redrawn, with captions, into a folder.
+    Figures(figures::Args),
     /// Test two superellipses for contact: deepest points and penetration vectors.
     Contact(contact::Args),
     /// Measure performance and print a table (or JSON).
@@ -44,6 +47,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(args),
         Command::Render(args) => render::run(args),
+        Command::Figures(args) => figures::run(args),
         Command::Contact(args) => contact::run(args),
         Command::Bench(b) => bench::run(b),
     };

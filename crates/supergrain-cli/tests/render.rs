@@ -639,3 +639,35 @@ fn run_with_unwritable_picture_outputs_fails_before_work() {
     assert!(!missing.exists());
     assert_eq!(dir_entries(dir.path()), ["a-file", "tiny.toml"]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// supergrain figures
+// ---------------------------------------------------------------------------------------------
+
+/// The diagrams of the paper (Figs. 2-9) are written as PNGs of the asked width, each with its
+/// caption; Fig. 2's shapes are apart and Fig. 3's overlap (the captions report the test).
+#[test]
+fn figures_writes_the_papers_diagrams_with_captions() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("figs");
+    ok(&sg(&["figures", p(&out), "--only-diagrams", "--width", "120"]));
+    let captions = std::fs::read_to_string(out.join("captions.md")).expect("captions");
+    for n in 2..=9 {
+        let name = format!("fig{n:02}.png");
+        let bytes = std::fs::read(out.join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{name} is not a PNG");
+        let width = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+        assert_eq!(width, 120, "{name}");
+        assert!(captions.contains(&name), "{name} has no caption");
+    }
+    let line = |name: &str| {
+        captions
+            .lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_default()
+            .to_string()
+    };
+    assert!(line("fig02.png").contains("Overlap: false"), "{captions}");
+    assert!(line("fig03.png").contains("Overlap: true"), "{captions}");
+    assert!(!out.join("fig10.png").exists(), "scenes were not asked for");
+}

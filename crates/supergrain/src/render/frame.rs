@@ -2,8 +2,9 @@
 //! walls and overlays stroked with tiny-skia (lines and rectangles are what a vector
 //! rasteriser does well).
 
-use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
+use tiny_skia::{Color, Pixmap};
 
+use super::pen::Pen;
 use super::raster::{Antialias, Rgba, View, paint_shape_with};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::PlacedSuperellipse;
@@ -183,86 +184,6 @@ fn draw_contacts(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
                 pen.polyline(pixmap, &[p.deepest, p.deepest + p.push], vector, 1.5);
                 pen.dot(pixmap, p.deepest, point, 2.0);
             }
-        }
-    }
-}
-
-/// Strokes and fills in plane coordinates.
-struct Pen {
-    view: View,
-    paint: Paint<'static>,
-}
-
-impl Pen {
-    fn new(view: &View) -> Pen {
-        let paint = Paint {
-            anti_alias: true,
-            ..Paint::default()
-        };
-        Pen { view: *view, paint }
-    }
-
-    fn colour(&mut self, c: Rgba) {
-        self.paint
-            .set_color(Color::from_rgba8(c[0], c[1], c[2], c[3]));
-    }
-
-    fn polyline(&mut self, pixmap: &mut Pixmap, points: &[Vec2], c: Rgba, width: f32) {
-        let mut pb = PathBuilder::new();
-        for (k, p) in points.iter().enumerate() {
-            let (x, y) = self.view.to_pixel(*p);
-            if k == 0 {
-                pb.move_to(x, y);
-            } else {
-                pb.line_to(x, y);
-            }
-        }
-        if let Some(path) = pb.finish() {
-            self.colour(c);
-            let stroke = Stroke {
-                width,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
-        }
-    }
-
-    fn rect(&self, b: &Aabb) -> Option<Rect> {
-        let (x0, y0) = self.view.to_pixel(Vec2::new(b.min.x, b.max.y));
-        let (x1, y1) = self.view.to_pixel(Vec2::new(b.max.x, b.min.y));
-        Rect::from_ltrb(x0, y0, x1.max(x0 + 0.5), y1.max(y0 + 0.5))
-    }
-
-    fn fill_box(&mut self, pixmap: &mut Pixmap, b: &Aabb, c: Rgba) {
-        if let Some(r) = self.rect(b) {
-            self.colour(c);
-            pixmap.fill_rect(r, &self.paint, Transform::identity(), None);
-        }
-    }
-
-    fn stroke_box(&mut self, pixmap: &mut Pixmap, b: &Aabb, c: Rgba, width: f32) {
-        if let Some(r) = self.rect(b) {
-            let path = PathBuilder::from_rect(r);
-            self.colour(c);
-            let stroke = Stroke {
-                width,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
-        }
-    }
-
-    fn dot(&mut self, pixmap: &mut Pixmap, p: Vec2, c: Rgba, radius: f32) {
-        let (x, y) = self.view.to_pixel(p);
-        if let Some(path) = PathBuilder::from_circle(x, y, radius) {
-            self.colour(c);
-            pixmap.fill_path(
-                &path,
-                &self.paint,
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
         }
     }
 }

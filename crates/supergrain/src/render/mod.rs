@@ -3,10 +3,13 @@
 //! class, deepest points and penetration vectors (paper Figs. 2, 3, 6) and of a whole world.
 
 mod contact_svg;
+mod diagram;
 mod frame;
+mod pen;
 pub mod raster;
 mod world_svg;
 
 pub use contact_svg::contact_svg;
+pub use diagram::{Show, collision_png, wall_png};
 pub use frame::{Colouring, Style, exponent_colour, render_world, world_region};
 pub use world_svg::world_svg;
