@@ -650,7 +650,13 @@ fn run_with_unwritable_picture_outputs_fails_before_work() {
 fn figures_writes_the_papers_diagrams_with_captions() {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("figs");
-    ok(&sg(&["figures", p(&out), "--only-diagrams", "--width", "120"]));
+    ok(&sg(&[
+        "figures",
+        p(&out),
+        "--only-diagrams",
+        "--width",
+        "120",
+    ]));
     let captions = std::fs::read_to_string(out.join("captions.md")).expect("captions");
     for n in 2..=9 {
         let name = format!("fig{n:02}.png");
