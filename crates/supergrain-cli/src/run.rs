@@ -71,7 +71,7 @@ pub struct Args {
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
     /// Frames per second of the GIF.
-    #[arg(long, default_value_t = 25.0, value_parser = positive_speed)]
+    #[arg(long, default_value_t = 25.0, value_parser = positive_number)]
     fps: f64,
     #[command(flatten)]
     picture: PictureArgs,
@@ -87,7 +87,7 @@ pub struct Args {
     until_rest: bool,
     /// Speed under which a grain counts as at rest (5% of a falling grain's terminal speed
     /// g h / delta with the paper's settings).
-    #[arg(long, default_value_t = 0.05, value_name = "SPEED", value_parser = positive_speed)]
+    #[arg(long, default_value_t = 0.05, value_name = "SPEED", value_parser = positive_number)]
     rest_speed: f64,
     /// Steps between frames of --trajectory, --vtk, --gif and --frames.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
@@ -228,7 +228,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
 /// Steps in a row under --rest-speed that count as rest.
 const REST_STEPS: u64 = 100;
 
-fn positive_speed(s: &str) -> Result<f64, String> {
+fn positive_number(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("expected a finite number > 0, got {s}")),

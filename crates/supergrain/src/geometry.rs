@@ -175,6 +175,16 @@ impl Aabb {
         self.max.y - self.min.y
     }
 
+    /// The four corners, counter-clockwise from `min`.
+    pub fn corners(&self) -> [Vec2; 4] {
+        [
+            self.min,
+            Vec2::new(self.max.x, self.min.y),
+            self.max,
+            Vec2::new(self.min.x, self.max.y),
+        ]
+    }
+
     /// Length of the diagonal.
     pub fn diagonal(&self) -> f64 {
         self.width().hypot(self.height())

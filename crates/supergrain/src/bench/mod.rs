@@ -312,14 +312,14 @@ pub struct RenderResult {
 
 /// Draws the grains of `world` on a `width`-pixel frame of its region, every way, interleaved
 /// `reps` times: the interval renderer with tangent-line, two-level and the paper's one-level
-/// anti-aliasing, and
-/// tiny-skia filling anti-aliased 64-gons (with the polygons built each frame from the
+/// anti-aliasing, and tiny-skia filling anti-aliased 64-gons (with the polygons built each frame from the
 /// parametric boundary, and prebuilt).
 pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec<RenderResult> {
     use crate::interval::PlacedSuperellipse;
+    use crate::render::Pen;
     use crate::render::raster::{Antialias, View, paint_shape_with};
     use crate::render::{exponent_colour, world_region};
-    use tiny_skia::{Color, FillRule, Paint, Path, PathBuilder, Pixmap, Transform};
+    use tiny_skia::{Color, Path, PathBuilder, Pixmap};
 
     let view = View::fit(world_region(world), width);
     let mut pixmap = Pixmap::new(view.width, view.height).expect("a non-empty frame");
@@ -341,14 +341,8 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
         pb.close();
         pb.finish()
     };
-    let fill = |pixmap: &mut Pixmap, path: &Path, c: [u8; 4]| {
-        let paint = Paint {
-            anti_alias: true,
-            shader: tiny_skia::Shader::SolidColor(Color::from_rgba8(c[0], c[1], c[2], c[3])),
-            ..Paint::default()
-        };
-        pixmap.fill_path(path, &paint, FillRule::Winding, Transform::identity(), None);
-    };
+    // The same anti-aliased solid fill the overlays use.
+    let mut pen = Pen::new(&view);
     let prebuilt: Vec<Option<Path>> = world.bodies.iter().map(polygon).collect();
     let names = [
         "interval quadtree, tangent-line aa",
@@ -376,12 +370,12 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
                     }
                     3 => {
                         if let Some(path) = polygon(b) {
-                            fill(&mut pixmap, &path, colour);
+                            pen.fill(&mut pixmap, &path, colour);
                         }
                     }
                     _ => {
                         if let Some(path) = pre {
-                            fill(&mut pixmap, path, colour);
+                            pen.fill(&mut pixmap, path, colour);
                         }
                     }
                 }

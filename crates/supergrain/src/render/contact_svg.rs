@@ -78,11 +78,7 @@ pub fn contact_svg(
         r##"<rect width="100%" height="100%" fill="#ffffff"/>"##
     );
     for (shape, pose, colour) in [(a, pose_a, "#2e7d32"), (b, pose_b, "#6a1b9a")] {
-        let pts: Vec<Vec2> = (0..720)
-            .map(|i| {
-                pose.to_world(shape.boundary_point(f64::from(i) * std::f64::consts::TAU / 720.0))
-            })
-            .collect();
+        let pts = shape.boundary_polygon(pose, 720);
         let _ = writeln!(
             svg,
             r#"<polygon points="{}" fill="{colour}" fill-opacity="0.18" stroke="{colour}" stroke-width="1.5"/>"#,
@@ -91,13 +87,7 @@ pub fn contact_svg(
     }
     // The cells are in A's local frame: place their corners in the world.
     for (cell, ca, cb, last) in &cells {
-        let corners = [
-            cell.min,
-            Vec2::new(cell.max.x, cell.min.y),
-            cell.max,
-            Vec2::new(cell.min.x, cell.max.y),
-        ]
-        .map(|p| pose_a.to_world(p));
+        let corners = cell.corners().map(|p| pose_a.to_world(p));
         let style = if *ca == Class::Outside || *cb == Class::Outside {
             r##"fill="none" stroke="#9e9e9e" stroke-width="0.4""##
         } else if *ca == Class::Inside && *cb == Class::Inside {

@@ -106,13 +106,7 @@ pub fn collision_png(
     if show.cells {
         // The cells are in A's local frame: their corners are placed in the plane.
         for (cell, ca, cb, last) in &cells {
-            let corners = [
-                cell.min,
-                Vec2::new(cell.max.x, cell.min.y),
-                cell.max,
-                Vec2::new(cell.min.x, cell.max.y),
-            ]
-            .map(|p| pose_a.to_world(p));
+            let corners = cell.corners().map(|p| pose_a.to_world(p));
             let (fill, line) = cell_style(*ca, *cb, *last);
             pen.polygon(&mut pixmap, &corners, fill, line);
         }
@@ -173,14 +167,8 @@ pub fn wall_png(
     }
     // The wall test runs in the plane's frame.
     for (cell, ca, cb, last) in &cells {
-        let corners = [
-            cell.min,
-            Vec2::new(cell.max.x, cell.min.y),
-            cell.max,
-            Vec2::new(cell.min.x, cell.max.y),
-        ];
         let (fill, line) = cell_style(*ca, *cb, *last);
-        pen.polygon(&mut pixmap, &corners, fill, line);
+        pen.polygon(&mut pixmap, &cell.corners(), fill, line);
     }
     if let Some(p) = contact.penetration {
         pen.polyline(
@@ -196,7 +184,5 @@ pub fn wall_png(
 
 /// The boundary as a polygon fine enough to outline a star's cusps.
 fn outline(shape: &Superellipse, pose: &Pose) -> Vec<Vec2> {
-    (0..720)
-        .map(|i| pose.to_world(shape.boundary_point(f64::from(i) * std::f64::consts::TAU / 720.0)))
-        .collect()
+    shape.boundary_polygon(pose, 720)
 }

@@ -142,8 +142,13 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
             3.0,
         );
     }
+    // Both overlays need every grain's box: made once.
+    let boxes: Vec<Aabb> = if style.boxes || style.contacts {
+        world.bodies.iter().map(|b| b.bounding_box()).collect()
+    } else {
+        Vec::new()
+    };
     if style.boxes {
-        let boxes: Vec<Aabb> = world.bodies.iter().map(|b| b.bounding_box()).collect();
         for (i, bi) in boxes.iter().enumerate() {
             for bj in &boxes[i + 1..] {
                 if let Some(common) = bi.intersection(bj) {
@@ -156,17 +161,16 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
         }
     }
     if style.contacts {
-        draw_contacts(world, &mut pixmap, &mut pen);
+        draw_contacts(world, &boxes, &mut pixmap, &mut pen);
     }
     pixmap
 }
 
 /// Deepest points (dots) and penetration vectors (lines) of every grain-grain and grain-wall
 /// contact, as the solver sees them.
-fn draw_contacts(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
+fn draw_contacts(world: &World, boxes: &[Aabb], pixmap: &mut Pixmap, pen: &mut Pen) {
     let vector = [0xd8, 0x1b, 0x60, 255];
     let point = [0x21, 0x21, 0x21, 255];
-    let boxes: Vec<Aabb> = world.bodies.iter().map(|b| b.bounding_box()).collect();
     for (i, a) in world.bodies.iter().enumerate() {
         for (j, b) in world.bodies.iter().enumerate().skip(i + 1) {
             if !boxes[i].intersects(&boxes[j]) {

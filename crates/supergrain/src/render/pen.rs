@@ -1,7 +1,7 @@
 //! Lines, boxes and dots in plane coordinates, stroked by tiny-skia: the overlays of frames and
 //! diagrams.
 
-use tiny_skia::{Color, FillRule, Paint, PathBuilder, Pixmap, Rect, Stroke, Transform};
+use tiny_skia::{Color, FillRule, Paint, Path, PathBuilder, Pixmap, Rect, Stroke, Transform};
 
 use super::raster::{Rgba, View};
 use crate::geometry::{Aabb, Vec2};
@@ -26,7 +26,8 @@ impl Pen {
             .set_color(Color::from_rgba8(c[0], c[1], c[2], c[3]));
     }
 
-    pub(crate) fn polyline(&mut self, pixmap: &mut Pixmap, points: &[Vec2], c: Rgba, width: f32) {
+    /// The path through `points` in pixel coordinates, closed or not.
+    pub(crate) fn path(&self, points: &[Vec2], closed: bool) -> Option<Path> {
         let mut pb = PathBuilder::new();
         for (k, p) in points.iter().enumerate() {
             let (x, y) = self.view.to_pixel(*p);
@@ -36,17 +37,39 @@ impl Pen {
                 pb.line_to(x, y);
             }
         }
-        if let Some(path) = pb.finish() {
-            self.colour(c);
-            let stroke = Stroke {
-                width,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
+        if closed {
+            pb.close();
+        }
+        pb.finish()
+    }
+
+    pub(crate) fn stroke(&mut self, pixmap: &mut Pixmap, path: &Path, c: Rgba, width: f32) {
+        self.colour(c);
+        let stroke = Stroke {
+            width,
+            ..Stroke::default()
+        };
+        pixmap.stroke_path(path, &self.paint, &stroke, Transform::identity(), None);
+    }
+
+    pub(crate) fn fill(&mut self, pixmap: &mut Pixmap, path: &Path, c: Rgba) {
+        self.colour(c);
+        pixmap.fill_path(
+            path,
+            &self.paint,
+            FillRule::Winding,
+            Transform::identity(),
+            None,
+        );
+    }
+
+    pub(crate) fn polyline(&mut self, pixmap: &mut Pixmap, points: &[Vec2], c: Rgba, width: f32) {
+        if let Some(path) = self.path(points, false) {
+            self.stroke(pixmap, &path, c, width);
         }
     }
 
-    pub(crate) fn rect(&self, b: &Aabb) -> Option<Rect> {
+    fn rect(&self, b: &Aabb) -> Option<Rect> {
         let (x0, y0) = self.view.to_pixel(Vec2::new(b.min.x, b.max.y));
         let (x1, y1) = self.view.to_pixel(Vec2::new(b.max.x, b.min.y));
         Rect::from_ltrb(x0, y0, x1.max(x0 + 0.5), y1.max(y0 + 0.5))
@@ -61,27 +84,14 @@ impl Pen {
 
     pub(crate) fn stroke_box(&mut self, pixmap: &mut Pixmap, b: &Aabb, c: Rgba, width: f32) {
         if let Some(r) = self.rect(b) {
-            let path = PathBuilder::from_rect(r);
-            self.colour(c);
-            let stroke = Stroke {
-                width,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
+            self.stroke(pixmap, &PathBuilder::from_rect(r), c, width);
         }
     }
 
     pub(crate) fn dot(&mut self, pixmap: &mut Pixmap, p: Vec2, c: Rgba, radius: f32) {
         let (x, y) = self.view.to_pixel(p);
         if let Some(path) = PathBuilder::from_circle(x, y, radius) {
-            self.colour(c);
-            pixmap.fill_path(
-                &path,
-                &self.paint,
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
+            self.fill(pixmap, &path, c);
         }
     }
 
@@ -93,36 +103,14 @@ impl Pen {
         fill: Option<Rgba>,
         outline: Option<(Rgba, f32)>,
     ) {
-        let mut pb = PathBuilder::new();
-        for (k, p) in points.iter().enumerate() {
-            let (x, y) = self.view.to_pixel(*p);
-            if k == 0 {
-                pb.move_to(x, y);
-            } else {
-                pb.line_to(x, y);
-            }
-        }
-        pb.close();
-        let Some(path) = pb.finish() else {
+        let Some(path) = self.path(points, true) else {
             return;
         };
         if let Some(c) = fill {
-            self.colour(c);
-            pixmap.fill_path(
-                &path,
-                &self.paint,
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
+            self.fill(pixmap, &path, c);
         }
         if let Some((c, width)) = outline {
-            self.colour(c);
-            let stroke = Stroke {
-                width,
-                ..Stroke::default()
-            };
-            pixmap.stroke_path(&path, &self.paint, &stroke, Transform::identity(), None);
+            self.stroke(pixmap, &path, c, width);
         }
     }
 }

@@ -27,13 +27,11 @@ pub fn world_svg(world: &World, width: u32) -> String {
         r##"<rect width="100%" height="100%" fill="#fafafa"/>"##
     );
     for b in &world.bodies {
-        let pose = b.pose();
-        let points: Vec<String> = (0..160)
-            .map(|i| {
-                let p = pose.to_world(
-                    b.shape
-                        .boundary_point(f64::from(i) * std::f64::consts::TAU / 160.0),
-                );
+        let points: Vec<String> = b
+            .shape
+            .boundary_polygon(&b.pose(), 160)
+            .into_iter()
+            .map(|p| {
                 let (x, y) = px(p.x, p.y);
                 format!("{x:.1},{y:.1}")
             })

@@ -102,6 +102,18 @@ impl Superellipse {
         Vec2::new(self.semi_axes.x * p(c, ex), self.semi_axes.y * p(s, ey))
     }
 
+    /// `n` boundary points at evenly spaced parameters, placed by `pose`: a polygon for
+    /// outlines (pictures, and polygon fills to compare with).
+    pub fn boundary_polygon(&self, pose: &Pose, n: u32) -> Vec<Vec2> {
+        (0..n)
+            .map(|i| {
+                pose.to_world(
+                    self.boundary_point(f64::from(i) * std::f64::consts::TAU / f64::from(n)),
+                )
+            })
+            .collect()
+    }
+
     /// An upper bound of the support function `max over the shape of d . p` for a local
     /// direction `d`: exact when `e_x = e_y`, and otherwise that of the superellipse with both
     /// exponents equal to the larger one, which contains this one.
