@@ -73,6 +73,9 @@ pub struct SolverJson {
     pub sleep_radius: f64,
     #[serde(default)]
     pub sleep_steps: u32,
+    /// Absent in dumps older than shock propagation: the closing sweeps they were run with.
+    #[serde(default)]
+    pub shock_propagation: bool,
     pub depth: u32,
     pub eps: f64,
     pub rotation: String,
@@ -151,6 +154,7 @@ impl Dump {
                 slop: s.slop,
                 sleep_radius: s.sleep_radius,
                 sleep_steps: s.sleep_steps,
+                shock_propagation: s.shock_propagation,
                 depth: s.precision.depth(),
                 eps: s.precision.eps(),
                 rotation: match s.rotation {
@@ -204,6 +208,7 @@ impl Dump {
                 slop: non_negative("slop", s.slop)?,
                 sleep_radius: non_negative("sleep_radius", s.sleep_radius)?,
                 sleep_steps: s.sleep_steps,
+                shock_propagation: s.shock_propagation,
                 precision: Precision::new(s.depth, s.eps)
                     .map_err(|e| DumpError::Solver(e.to_string()))?,
                 rotation: match s.rotation.as_str() {

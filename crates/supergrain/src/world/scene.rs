@@ -189,6 +189,7 @@ impl Scene {
             slop: s.slop.map_or(defaults.slop, |v| v.0),
             sleep_radius: s.sleep_radius.map_or(defaults.sleep_radius, |v| v.0),
             sleep_steps: s.sleep_steps.unwrap_or(defaults.sleep_steps),
+            shock_propagation: s.shock_propagation.unwrap_or(defaults.shock_propagation),
             precision: Precision::new(depth, s.eps.map_or(0.0, |v| v.0))
                 .map_err(|e| invalid(0..0, format!("solver: {e}")))?,
             rotation: s.rotation.unwrap_or(defaults.rotation.into()).into(),
@@ -311,6 +312,7 @@ struct SolverSpec {
     slop: Option<NonNegative>,
     sleep_radius: Option<NonNegative>,
     sleep_steps: Option<u32>,
+    shock_propagation: Option<bool>,
     depth: Option<toml::Spanned<u32>>,
     eps: Option<NonNegative>,
     rotation: Option<RotationSpec>,
