@@ -17,6 +17,9 @@ pub enum ColourArg {
     Exponent,
     /// A palette cycled by grain, so neighbours differ.
     Palette,
+    /// By the scene's [[group]]: the first blue, then red, green, orange, purple, cyan, brown,
+    /// lime.
+    Group,
 }
 
 #[derive(Args, Clone)]
@@ -47,6 +50,7 @@ impl PictureArgs {
             colouring: match self.colour {
                 ColourArg::Exponent => Colouring::Exponent,
                 ColourArg::Palette => Colouring::Palette,
+                ColourArg::Group => Colouring::Group,
             },
             antialias: self.aa.map_or(Antialias::Gradient, Antialias::Split),
             boxes: self.boxes,

@@ -342,6 +342,9 @@ fn render_is_deterministic_and_takes_every_picture_option() {
         &["--boxes", "--contacts", "--colour", "palette"],
     );
     assert_ne!(a, overlays, "overlays and palette change nothing");
+    // The circles preset is one group: all blue, not the default's colour by shape class.
+    let by_group = render("group.png", &["--colour", "group"]);
+    assert_ne!(a, by_group, "--colour group gives the default's picture");
     for aa in ["0", "1", "8"] {
         let other = render(&format!("aa{aa}.png"), &["--aa", aa]);
         assert_eq!(png_size(&other), png_size(&a));

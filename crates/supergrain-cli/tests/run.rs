@@ -211,7 +211,7 @@ impl Row {
     }
 }
 
-const HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey";
+const HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey,group";
 
 /// Checks the header and parses the rows.
 fn trajectory(text: &str) -> Vec<Row> {
@@ -220,7 +220,8 @@ fn trajectory(text: &str) -> Vec<Row> {
     lines
         .map(|line| {
             let fields: Vec<&str> = line.split(',').collect();
-            assert_eq!(fields.len(), 12, "row {line:?} has not 12 fields");
+            assert_eq!(fields.len(), 13, "row {line:?} has not 13 fields");
+            assert_eq!(fields[12], "0", "the preset's grains are all of group 0");
             let f = |k: usize| -> f64 {
                 fields[k]
                     .parse()
@@ -304,7 +305,7 @@ fn parse_vtk(text: &str) -> Vtk {
                 vtk.vectors.insert(name.to_string(), v);
                 i += 1 + count;
             }
-            ["SCALARS", name, "double", "1"] => {
+            ["SCALARS", name, "double" | "int", "1"] => {
                 let count = n.expect("SCALARS before POINTS");
                 assert_eq!(lines[i + 1], "LOOKUP_TABLE default");
                 let v = lines[i + 2..i + 2 + count]
@@ -842,6 +843,7 @@ fn vtk_frames_hold_the_grains_of_each_frame() {
                 "roundness_x",
                 "roundness_y",
                 "angle",
+                "group",
             ] {
                 assert_eq!(vtk.scalars.get(key).map(Vec::len), Some(n), "{name}: {key}");
             }

@@ -1070,3 +1070,79 @@ fn render_world_colours_regions_and_repeats() {
         "two renderings differ"
     );
 }
+
+/// A scene with three groups, poured and drawn `Colouring::Group`: the pixel at every grain's
+/// centre has its group's documented colour (first blue, second red, third green), whatever
+/// its shape, and each group keeps the shapes of its own ranges.
+#[test]
+fn colouring_by_group_follows_the_scene_groups() {
+    let text = r#"
+seed = 3
+steps = 10
+[box]
+left = -4.0
+right = 4.0
+floor = 0.0
+top = 6.0
+[spawn]
+interval = 10
+[[group]]
+name = "small circles"
+count = 4
+radius = [0.3, 0.35]
+[[group]]
+name = "large circles"
+count = 4
+radius = [0.6, 0.65]
+[[group]]
+name = "blocks"
+count = 4
+semi_axes = [[0.4, 0.45], [0.4, 0.45]]
+exponent = 4.0
+"#;
+    let scene = Scene::from_toml(text).expect("scene");
+    let mut world = World::new(&scene);
+    while !world.all_spawned() {
+        world.step();
+    }
+    // Which group a grain must be in, read off its shape alone.
+    let group_of = |b: &supergrain::solver::Body| {
+        let s = b.shape.semi_axes();
+        match (b.shape.exponents()[0], s.x) {
+            (e, _) if e == 4.0 => 2,
+            (_, r) if r < 0.5 => 0,
+            _ => 1,
+        }
+    };
+    assert_eq!(world.bodies.len(), 12);
+    for b in &world.bodies {
+        assert_eq!(b.group, group_of(b), "grain of shape {:?}", b.shape);
+    }
+    // A dump keeps the groups.
+    let restarted = supergrain::io::Dump::of(&world)
+        .to_world()
+        .expect("restart");
+    let groups = |w: &World| w.bodies.iter().map(|b| b.group).collect::<Vec<_>>();
+    assert_eq!(groups(&restarted), groups(&world));
+    let style = Style {
+        width: 400,
+        colouring: Colouring::Group,
+        ..Style::default()
+    };
+    let image = to_rgba_image(&render_world(&world, &style));
+    let view = View::fit(world_region(&world), 400);
+    let colours = [
+        [0x1e, 0x88, 0xe5, 255],
+        [0xe5, 0x39, 0x35, 255],
+        [0x43, 0xa0, 0x47, 255],
+    ];
+    for b in &world.bodies {
+        let (px, py) = view.to_pixel(b.center);
+        let pixel = image.get_pixel(px.floor() as u32, py.floor() as u32).0;
+        assert_eq!(
+            pixel, colours[b.group as usize],
+            "grain of group {}",
+            b.group
+        );
+    }
+}

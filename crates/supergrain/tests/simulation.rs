@@ -242,7 +242,13 @@ fn a_deep_heap_rests_with_shock_propagation() {
         angle: Range::new(0.0, TAU),
     };
     scene.groups = vec![
-        group("pebbles", 100, [Range::new(0.2, 0.35); 2], true, [Range::fixed(2.0); 2]),
+        group(
+            "pebbles",
+            100,
+            [Range::new(0.2, 0.35); 2],
+            true,
+            [Range::fixed(2.0); 2],
+        ),
         group(
             "rice",
             30,

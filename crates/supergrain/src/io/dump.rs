@@ -42,6 +42,9 @@ pub struct ParticleJson {
     /// Absent: `center`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anchor: Option<[f64; 2]>,
+    /// The scene group, counted from 0 in the scene's order; absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub group: u32,
 }
 
 fn is_zero(n: &u32) -> bool {
@@ -57,6 +60,9 @@ pub struct PendingJson {
     pub x: f64,
     pub angle: f64,
     pub due: u64,
+    /// Absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub group: u32,
 }
 
 /// The solver settings, as in a scene file's `[solver]`.
@@ -141,6 +147,7 @@ impl Dump {
                         previous_angle: Some(b.previous_angle),
                         calm: b.calm,
                         anchor: (b.anchor != b.center).then(|| b.anchor.to_array()),
+                        group: b.group,
                     }
                 })
                 .collect(),
@@ -177,6 +184,7 @@ impl Dump {
                     x: p.x,
                     angle: p.angle,
                     due: p.due,
+                    group: p.group,
                 })
                 .collect(),
         }
@@ -249,6 +257,7 @@ impl Dump {
                 previous_angle: p.previous_angle.unwrap_or(pose.angle()),
                 calm: p.calm,
                 anchor: p.anchor.map_or(pose.center(), Vec2::from),
+                group: p.group,
             };
             if !body.is_finite() || !v.is_finite() {
                 return Err(DumpError::NotFinite(index));
@@ -267,6 +276,7 @@ impl Dump {
                 x: p.x,
                 angle: p.angle,
                 due: p.due,
+                group: p.group,
             });
         }
         let top = self.top.unwrap_or_else(|| {

@@ -5,7 +5,7 @@ use std::io::{self, Write};
 use crate::world::World;
 
 /// The trajectory CSV header: one row per grain and frame.
-pub const TRAJECTORY_HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey";
+pub const TRAJECTORY_HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey,group";
 
 /// Appends one frame of the trajectory: a row per grain, `id` its order of appearance.
 pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
@@ -16,16 +16,28 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
         let [ex, ey] = b.shape.exponents();
         writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{}",
-            world.step, time, i, b.center.x, b.center.y, b.angle, v.x, v.y, s.x, s.y, ex, ey
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            world.step,
+            time,
+            i,
+            b.center.x,
+            b.center.y,
+            b.angle,
+            v.x,
+            v.y,
+            s.x,
+            s.y,
+            ex,
+            ey,
+            b.group
         )?;
     }
     Ok(())
 }
 
 /// One frame as a legacy-format VTK point file: grain centres as points, with the semi-axes,
-/// the local x axis, exponents, superquadric roundness (2 / exponent), angle and velocity as
-/// point data, so that ParaView can glyph them (see the README).
+/// the local x axis, exponents, superquadric roundness (2 / exponent), angle, velocity and
+/// scene group as point data, so that ParaView can glyph them (see the README).
 pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let n = world.bodies.len();
     writeln!(out, "# vtk DataFile Version 3.0")?;
@@ -78,6 +90,11 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     writeln!(out, "LOOKUP_TABLE default")?;
     for b in &world.bodies {
         writeln!(out, "{}", b.angle.to_degrees())?;
+    }
+    writeln!(out, "SCALARS group int 1")?;
+    writeln!(out, "LOOKUP_TABLE default")?;
+    for b in &world.bodies {
+        writeln!(out, "{}", b.group)?;
     }
     Ok(())
 }

@@ -20,6 +20,9 @@ pub enum Colouring {
     Exponent,
     /// A fixed palette cycled by grain index, so neighbours differ.
     Palette,
+    /// The same palette by scene group: the scene's first `[[group]]` blue, the second red,
+    /// then green, orange, purple, cyan, brown, lime (and round again).
+    Group,
     /// One colour for all.
     Uniform(Rgba),
 }
@@ -121,6 +124,7 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
         let colour = match style.colouring {
             Colouring::Exponent => exponent_colour(&body.shape),
             Colouring::Palette => PALETTE[i % PALETTE.len()],
+            Colouring::Group => PALETTE[body.group as usize % PALETTE.len()],
             Colouring::Uniform(c) => c,
         };
         let placed = PlacedSuperellipse::new(body.shape, body.pose());

@@ -32,6 +32,9 @@ pub struct Body {
     /// [`Settings::sleep_steps`] it is asleep.
     pub calm: u32,
     pub anchor: Vec2,
+    /// The scene group the grain came from, counted from 0 in the scene's order (0 for grains
+    /// made otherwise). The solver ignores it; pictures can colour by it.
+    pub group: u32,
 }
 
 impl Body {
@@ -45,6 +48,7 @@ impl Body {
             previous_angle: pose.angle(),
             calm: 0,
             anchor: pose.center(),
+            group: 0,
         }
     }
 

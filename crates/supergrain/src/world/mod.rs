@@ -27,6 +27,8 @@ pub struct Pending {
     pub angle: f64,
     /// The first step at which it may appear.
     pub due: u64,
+    /// Its scene group (see [`Body::group`]).
+    pub group: u32,
 }
 
 /// Grains, walls, settings and the spawn queue.
@@ -58,7 +60,7 @@ impl World {
             }
         };
         let mut grains = Vec::new();
-        for g in &scene.groups {
+        for (group, g) in (0u32..).zip(&scene.groups) {
             for _ in 0..g.count {
                 let sx = draw(&mut rng, g.semi_axes[0]);
                 let sy = if g.circles {
@@ -75,7 +77,7 @@ impl World {
                 let angle = draw(&mut rng, g.angle);
                 let shape =
                     Superellipse::new([sx, sy], [ex, ey]).expect("scene ranges are validated");
-                grains.push((shape, angle));
+                grains.push((shape, angle, group));
             }
         }
         // Groups fall mixed, in an order fixed by the seed.
@@ -84,7 +86,7 @@ impl World {
         let pending = grains
             .into_iter()
             .enumerate()
-            .map(|(k, (shape, angle))| {
+            .map(|(k, (shape, angle, group))| {
                 // x uniform between the walls, the grain's box kept inside them.
                 let half = 0.5
                     * shape
@@ -101,6 +103,7 @@ impl World {
                     x,
                     angle,
                     due: k as u64 * u64::from(scene.spawn_interval),
+                    group,
                 }
             })
             .collect();
@@ -166,10 +169,13 @@ impl World {
             if p.due > self.step {
                 return;
             }
-            let body = Body::at_rest(
-                p.shape,
-                &Pose::from_parts(Vec2::new(p.x, self.top), p.angle),
-            );
+            let body = Body {
+                group: p.group,
+                ..Body::at_rest(
+                    p.shape,
+                    &Pose::from_parts(Vec2::new(p.x, self.top), p.angle),
+                )
+            };
             let bb = body.bounding_box();
             let boxes =
                 boxes.get_or_insert_with(|| self.bodies.iter().map(Body::bounding_box).collect());
