@@ -1108,10 +1108,12 @@ exponent = 4.0
     // Which group a grain must be in, read off its shape alone.
     let group_of = |b: &supergrain::solver::Body| {
         let s = b.shape.semi_axes();
-        match (b.shape.exponents()[0], s.x) {
-            (e, _) if e == 4.0 => 2,
-            (_, r) if r < 0.5 => 0,
-            _ => 1,
+        if b.shape.exponents()[0] == 4.0 {
+            2
+        } else if s.x < 0.5 {
+            0
+        } else {
+            1
         }
     };
     assert_eq!(world.bodies.len(), 12);
