@@ -572,3 +572,59 @@ fn sleepers_hold_still_and_wake_when_their_support_goes_or_a_grain_lands_on_them
         "a grain landing off-centre on a sleeper should wake and push it"
     );
 }
+
+/// A calm grain does not fall asleep while a grain touching it is still settling: two discs side
+/// by side on the floor, one calm for long, the other just arrived, fall asleep at the same
+/// step, when the second has been calm long enough. And the wait is bounded: if the neighbour
+/// never calms down (here its calm count is reset by hand each step, as a trembling star's is),
+/// the calm grain sleeps `sleep_steps` steps after it was ready.
+#[test]
+fn calm_grains_wait_for_their_neighbours_to_sleep_but_not_for_ever() {
+    let steps = Scene::preset("circles").unwrap().settings.sleep_steps;
+    let pair = || {
+        let mut a = circle_at(0.5, 0.0, 0.5);
+        a.calm = steps - 2;
+        let b = circle_at(0.5, 1.0, 0.5);
+        two_circle_world(vec![a, b])
+    };
+
+    let mut world = pair();
+    let mut fell_asleep = [None, None];
+    for _ in 0..3 * steps {
+        world.step();
+        for (k, b) in world.bodies.iter().enumerate() {
+            if fell_asleep[k].is_none() && b.asleep(&world.settings) {
+                fell_asleep[k] = Some(world.step);
+            }
+        }
+    }
+    let (a, b) = (
+        fell_asleep[0].expect("a sleeps"),
+        fell_asleep[1].expect("b sleeps"),
+    );
+    assert_eq!(
+        a, b,
+        "the calm grain fell asleep at step {a}, its neighbour at {b}"
+    );
+    assert!(
+        a >= u64::from(steps) - 1,
+        "asleep at step {a}, before the neighbour was calm"
+    );
+
+    let mut world = pair();
+    let mut asleep_at = None;
+    for _ in 0..3 * steps {
+        world.step();
+        world.bodies[1].calm = 0;
+        if asleep_at.is_none() && world.bodies[0].asleep(&world.settings) {
+            asleep_at = Some(world.step);
+        }
+    }
+    let at = asleep_at.expect("the calm grain sleeps in the end");
+    // Ready after one step (calm reaches sleep_steps - 1), then waits sleep_steps + 1 steps.
+    assert!(
+        (u64::from(steps)..=u64::from(steps) + 3).contains(&at),
+        "asleep at step {at}"
+    );
+    assert!(!world.bodies[1].asleep(&world.settings));
+}

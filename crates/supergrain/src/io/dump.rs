@@ -42,6 +42,9 @@ pub struct ParticleJson {
     /// Absent: `center`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anchor: Option<[f64; 2]>,
+    /// Steps ready to sleep while a neighbour was not; absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub waiting: u32,
     /// The scene group, counted from 0 in the scene's order; absent: 0.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub group: u32,
@@ -147,6 +150,7 @@ impl Dump {
                         previous_angle: Some(b.previous_angle),
                         calm: b.calm,
                         anchor: (b.anchor != b.center).then(|| b.anchor.to_array()),
+                        waiting: b.waiting,
                         group: b.group,
                     }
                 })
@@ -257,6 +261,7 @@ impl Dump {
                 previous_angle: p.previous_angle.unwrap_or(pose.angle()),
                 calm: p.calm,
                 anchor: p.anchor.map_or(pose.center(), Vec2::from),
+                waiting: p.waiting,
                 group: p.group,
             };
             if !body.is_finite() || !v.is_finite() {

@@ -32,6 +32,8 @@ pub struct Body {
     /// [`Settings::sleep_steps`] it is asleep.
     pub calm: u32,
     pub anchor: Vec2,
+    /// Steps the grain has been ready to sleep while a neighbour was not (see `update_sleep`).
+    pub waiting: u32,
     /// The scene group the grain came from, counted from 0 in the scene's order (0 for grains
     /// made otherwise). The solver ignores it; pictures can colour by it.
     pub group: u32,
@@ -48,6 +50,7 @@ impl Body {
             previous_angle: pose.angle(),
             calm: 0,
             anchor: pose.center(),
+            waiting: 0,
             group: 0,
         }
     }
@@ -306,7 +309,14 @@ pub fn step<B: BroadPhase>(
 }
 
 /// Counts calm steps, and wakes the sleepers near a grain that moved far this step (the grain
-/// under them may have gone).
+/// under them may have gone). A grain calm for `sleep_steps - 1` steps is ready, and falls
+/// asleep once every grain whose box touches its box is ready or asleep too (a local form of
+/// Box2D's islands), or after waiting `sleep_steps` more steps for them. Put to sleep alone, a
+/// grain becomes a wall to a neighbour still settling against it, which can then be squeezed
+/// out of its place, move and wake it, every `sleep_steps` steps for ever (seen in the
+/// 1,000-grain pour: a grain of rice wedged between two blocks at the wall). The wait is
+/// bounded because a star's neighbours would otherwise never sleep: its spikes flicker in and
+/// out of contact and it is seldom ready.
 fn update_sleep<B: BroadPhase>(
     bodies: &mut [Body],
     settings: &Settings,
@@ -314,21 +324,18 @@ fn update_sleep<B: BroadPhase>(
     work: &mut Workspace,
 ) {
     let radius = settings.sleep_radius;
+    let ready = settings.sleep_steps.saturating_sub(1);
     for i in 0..bodies.len() {
         let b = &mut bodies[i];
         if b.asleep(settings) {
             continue;
         }
         if (b.center - b.anchor).norm() <= radius {
-            b.calm = b.calm.saturating_add(1);
-            if b.calm == settings.sleep_steps {
-                // Falls asleep at rest: when woken, it starts from zero velocity.
-                b.previous_center = b.center;
-                b.previous_angle = b.angle;
-            }
+            b.calm = (b.calm + 1).min(ready);
         } else {
             b.anchor = b.center;
             b.calm = 0;
+            b.waiting = 0;
         }
         if (b.center - work.start[i]).norm() > radius {
             work.candidates.clear();
@@ -338,6 +345,25 @@ fn update_sleep<B: BroadPhase>(
                     bodies[j].calm = 0;
                 }
             }
+        }
+    }
+    for i in 0..bodies.len() {
+        if bodies[i].calm != ready || bodies[i].asleep(settings) {
+            continue;
+        }
+        work.candidates.clear();
+        broad.candidates(i, &work.boxes, &mut work.candidates);
+        let b = &mut bodies[i];
+        b.waiting += 1;
+        if b.waiting > settings.sleep_steps
+            || work.candidates.iter().all(|&j| bodies[j].calm >= ready)
+        {
+            // Falls asleep at rest: when woken, it starts from zero velocity.
+            let b = &mut bodies[i];
+            b.calm = settings.sleep_steps;
+            b.waiting = 0;
+            b.previous_center = b.center;
+            b.previous_angle = b.angle;
         }
     }
 }
@@ -353,9 +379,7 @@ struct Context<'a> {
 /// walls and of every grain below them, which no longer move. A step thus ends with every
 /// contact resolved once, the upper grain taking the whole correction, so the weight of a deep
 /// heap no longer squeezes its bottom layers: the grain-by-grain passes alone leave twenty
-/// layers overlapping and trembling for ever. Only supports hold, contacts within 60 degrees of
-/// straight under a grain; contacts more to the side are shared as in the other passes (see
-/// `resolve`).
+/// layers overlapping and trembling for ever.
 ///
 /// And, as in XPBD's velocity pass, this correction is inelastic: it cancels the grain's
 /// velocity into its supports but creates none away from them. Otherwise a grain the sweep lifts
@@ -439,25 +463,22 @@ fn resolve<B: BroadPhase>(
         if !work.boxes[i].intersects(&work.boxes[j]) {
             continue;
         }
-        if rank.is_some_and(|r| r[j] > r[i]) {
-            // Seen from `j` when its turn comes.
+        let sleeper = bodies[j].asleep(settings);
+        if rank.is_some_and(|r| r[j] > r[i]) && !sleeper {
+            // Seen from `j` when its turn comes (a sleeper's never comes).
             continue;
         }
         stats.tests += 1;
         if let Some(p) = grain_contact(settings, &bodies[i], &bodies[j]).penetration {
             let away = bodies[i].center - bodies[j].center;
             let a_push = safe_push(p.a_push, away, cap(&bodies[i]));
-            // In the shock sweep, `j` supports `i` when the push lifts `i` (within 60 degrees
-            // of straight up). A contact more to the side than that is shared as usual: were the
-            // grain processed first to hold, a row of grains side by side would be pushed the
-            // same way every step and the whole row would creep sideways.
-            let supports = rank.is_some() && a_push.y > 0.5 * a_push.norm();
-            if supports || (bodies[j].asleep(settings) && a_push.norm() <= settings.slop) {
-                // A support in the shock sweep, or a sleeper, holds like a wall: the grain
+            if rank.is_some() || (sleeper && a_push.norm() <= settings.slop) {
+                // In the shock sweep a grain below, or a sleeper anywhere; otherwise a sleeper
+                // pushed into no deeper than the slop: it holds like a wall, and the grain
                 // takes the whole correction.
                 project(&mut bodies[i], p.a_deepest, a_push, 1.0, settings.slop);
             } else {
-                if bodies[j].asleep(settings) {
+                if sleeper {
                     bodies[j].calm = 0;
                 }
                 let b_push = safe_push(p.b_push, -away, cap(&bodies[j]));
