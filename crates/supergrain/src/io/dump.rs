@@ -7,6 +7,7 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
+use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::geometry::Vec2;
 use crate::shape::{Pose, ShapeError, Superellipse};
 use crate::solver::{Body, NarrowPhase, Rotation, Settings, Walls};
@@ -89,6 +90,9 @@ pub struct SolverJson {
     pub eps: f64,
     pub rotation: String,
     pub narrow_phase: String,
+    /// "grid" or "all-pairs"; absent: "grid" (the results are the same).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub broad_phase: Option<String>,
 }
 
 /// A whole dump.
@@ -178,6 +182,13 @@ impl Dump {
                     NarrowPhase::Analytic => "analytic",
                 }
                 .into(),
+                broad_phase: Some(
+                    match s.broad_phase {
+                        BroadPhaseKind::Grid => "grid",
+                        BroadPhaseKind::AllPairs => "all-pairs",
+                    }
+                    .into(),
+                ),
             }),
             pending: world
                 .pending
@@ -238,6 +249,15 @@ impl Dump {
                     other => {
                         return Err(DumpError::Solver(format!(
                             "narrow_phase must be interval or analytic, got {other}"
+                        )));
+                    }
+                },
+                broad_phase: match s.broad_phase.as_deref() {
+                    None | Some("grid") => BroadPhaseKind::Grid,
+                    Some("all-pairs") => BroadPhaseKind::AllPairs,
+                    Some(other) => {
+                        return Err(DumpError::Solver(format!(
+                            "broad_phase must be grid or all-pairs, got {other}"
                         )));
                     }
                 },

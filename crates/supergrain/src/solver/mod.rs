@@ -144,6 +144,9 @@ pub struct Settings {
     pub precision: Precision,
     pub rotation: Rotation,
     pub narrow_phase: NarrowPhase,
+    /// Which pairs are tested: a grid or all pairs (same pairs, same results; see
+    /// [`crate::broad_phase`]).
+    pub broad_phase: crate::broad_phase::Kind,
 }
 
 impl Default for Settings {
@@ -160,6 +163,7 @@ impl Default for Settings {
             precision: Precision::default(),
             rotation: Rotation::Projection,
             narrow_phase: NarrowPhase::Interval,
+            broad_phase: crate::broad_phase::Kind::Grid,
         }
     }
 }
@@ -274,6 +278,7 @@ pub fn step<B: BroadPhase>(
         }
         verlet(&mut bodies[i], settings);
         work.boxes[i] = bodies[i].bounding_box();
+        broad.update(i, &work.boxes[i]);
         for pass in 0..settings.max_iterations {
             let hit = resolve(i, bodies, &ctx, broad, work, &mut stats, None);
             if pass == 0 {
@@ -453,6 +458,7 @@ fn resolve<B: BroadPhase>(
             let push = safe_push(p.push, wall.normal(), cap(&bodies[i]));
             project(&mut bodies[i], p.deepest, push, 1.0, settings.slop);
             work.boxes[i] = bodies[i].bounding_box();
+            broad.update(i, &work.boxes[i]);
             hit += 1;
         }
     }
@@ -485,8 +491,10 @@ fn resolve<B: BroadPhase>(
                 project(&mut bodies[i], p.a_deepest, a_push, 0.5, settings.slop);
                 project(&mut bodies[j], p.b_deepest, b_push, 0.5, settings.slop);
                 work.boxes[j] = bodies[j].bounding_box();
+                broad.update(j, &work.boxes[j]);
             }
             work.boxes[i] = bodies[i].bounding_box();
+            broad.update(i, &work.boxes[i]);
             hit += 1;
         }
     }

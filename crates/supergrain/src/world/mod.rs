@@ -11,7 +11,7 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::broad_phase::AllPairs;
+use crate::broad_phase::Any as AnyBroadPhase;
 use crate::geometry::{Aabb, Vec2};
 use crate::shape::{Pose, Superellipse};
 use crate::solver::{
@@ -44,7 +44,7 @@ pub struct World {
     pub pending: VecDeque<Pending>,
     /// Where each grain was when the last step began (see [`World::velocity`]).
     step_start: Vec<Vec2>,
-    broad: AllPairs,
+    broad: AnyBroadPhase,
     work: Workspace,
 }
 
@@ -115,7 +115,7 @@ impl World {
             top: scene.top,
             pending,
             step_start: Vec::new(),
-            broad: AllPairs,
+            broad: AnyBroadPhase::new(scene.settings.broad_phase),
             work: Workspace::default(),
         }
     }
@@ -137,7 +137,7 @@ impl World {
             step,
             top,
             pending,
-            broad: AllPairs,
+            broad: AnyBroadPhase::new(settings.broad_phase),
             work: Workspace::default(),
         }
     }

@@ -7,6 +7,7 @@ use std::fmt;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
+use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::solver::{NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
@@ -197,6 +198,11 @@ impl Scene {
                 .narrow_phase
                 .unwrap_or(defaults.narrow_phase.into())
                 .into(),
+            broad_phase: match s.broad_phase {
+                None => defaults.broad_phase,
+                Some(BroadPhaseSpec::Grid) => BroadPhaseKind::Grid,
+                Some(BroadPhaseSpec::AllPairs) => BroadPhaseKind::AllPairs,
+            },
         };
         let mut groups = Vec::new();
         for (k, g) in file.groups.iter().enumerate() {
@@ -317,6 +323,14 @@ struct SolverSpec {
     eps: Option<NonNegative>,
     rotation: Option<RotationSpec>,
     narrow_phase: Option<NarrowPhaseSpec>,
+    broad_phase: Option<BroadPhaseSpec>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum BroadPhaseSpec {
+    Grid,
+    AllPairs,
 }
 
 #[derive(Deserialize, Clone, Copy)]
