@@ -573,7 +573,8 @@ fn sleepers_hold_still_and_wake_when_their_support_goes_or_a_grain_lands_on_them
     );
 }
 
-/// A calm grain does not fall asleep while a grain touching it is still settling: two discs side
+/// With shock propagation (deep heaps), a calm grain does not fall asleep while a grain touching
+/// it is still settling: two discs side
 /// by side on the floor, one calm for long, the other just arrived, fall asleep at the same
 /// step, when the second has been calm long enough. And the wait is bounded: if the neighbour
 /// never calms down (here its calm count is reset by hand each step, as a trembling star's is),
@@ -585,7 +586,9 @@ fn calm_grains_wait_for_their_neighbours_to_sleep_but_not_for_ever() {
         let mut a = circle_at(0.5, 0.0, 0.5);
         a.calm = steps - 2;
         let b = circle_at(0.5, 1.0, 0.5);
-        two_circle_world(vec![a, b])
+        let mut world = two_circle_world(vec![a, b]);
+        world.settings.shock_propagation = true;
+        world
     };
 
     let mut world = pair();
