@@ -21,6 +21,105 @@ pub enum Bench {
     /// paper's interval quadtree renderer and by tiny-skia filling 64-gons, interleaved in one
     /// run; the ratio column is each time over the prebuilt polygon fill's.
     Render(RenderArgs),
+    /// Scaling: a step of the 1,000-grain pour's settled heap (docs/bench/pour-1000-rest.json)
+    /// tiled side by side to 1,000, 10,000 and 100,000 grains, every grain awake and sleeping
+    /// off, with the grid broad phase and (up to --all-pairs-max grains) all pairs; the first
+    /// steps untimed, then the median step. Reports the process's peak memory at the end.
+    Scaling(ScalingArgs),
+}
+
+#[derive(Parser)]
+pub struct ScalingArgs {
+    /// Copies of the heap, side by side (1,000 grains each).
+    #[arg(long, value_delimiter = ',', default_value = "1,10,100")]
+    copies: Vec<usize>,
+    /// Untimed steps first.
+    #[arg(long, default_value_t = 2)]
+    warmup: usize,
+    /// Timed steps; the median is reported.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..))]
+    steps: u64,
+    /// The largest scene also run with all pairs (their cost grows with the square).
+    #[arg(long, default_value_t = 10_000)]
+    all_pairs_max: usize,
+    /// Print {"cases": [...], "peak_rss_kib"} instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The settled 1,000-grain pour, built in so the benchmark runs from anywhere.
+const POUR_1000_REST: &str = include_str!("../../../docs/bench/pour-1000-rest.json");
+
+/// The process's peak resident memory in KiB (Linux), if known.
+fn peak_rss_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+fn scaling(args: ScalingArgs) -> Result<ExitCode> {
+    use supergrain::broad_phase::Kind;
+    let dump: supergrain::io::Dump =
+        serde_json::from_str(POUR_1000_REST).context("the built-in settled heap")?;
+    let heap = dump
+        .to_world()
+        .map_err(|e| anyhow::anyhow!("the built-in settled heap: {e}"))?;
+    let mut cases = Vec::new();
+    for &n in &args.copies {
+        let mut kinds = vec![Kind::Grid];
+        if n * heap.bodies.len() <= args.all_pairs_max {
+            kinds.push(Kind::AllPairs);
+        }
+        cases.extend(supergrain::bench::scaling_cases(
+            &heap,
+            &[n],
+            &kinds,
+            args.warmup,
+            args.steps as usize,
+        ));
+    }
+    let peak = peak_rss_kib();
+    if args.json {
+        let cases: Vec<_> = cases
+            .iter()
+            .map(|c| {
+                serde_json::json!({
+                    "grains": c.grains, "broad_phase": c.broad_phase, "ms_per_step": c.ms_per_step,
+                    "us_per_grain_step": c.us_per_grain_step, "tests_per_step": c.tests_per_step,
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            serde_json::json!({ "cases": cases, "peak_rss_kib": peak })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    let base = cases.first().map_or(f64::NAN, |c| c.us_per_grain_step);
+    println!(
+        "{:>8} {:<10} {:>12} {:>16} {:>14} {:>12}",
+        "grains", "broad", "ms/step", "us/grain-step", "tests/step", "x 1,000 grid"
+    );
+    for c in &cases {
+        println!(
+            "{:>8} {:<10} {:>12.1} {:>16.2} {:>14.0} {:>12.2}",
+            c.grains,
+            c.broad_phase,
+            c.ms_per_step,
+            c.us_per_grain_step,
+            c.tests_per_step,
+            c.us_per_grain_step / base
+        );
+    }
+    if let Some(kib) = peak {
+        let grains = cases.iter().map(|c| c.grains).max().unwrap_or(1);
+        println!(
+            "peak memory {:.1} MiB, {:.0} bytes per grain of the largest scene",
+            kib as f64 / 1024.0,
+            kib as f64 * 1024.0 / grains as f64
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 #[derive(Parser)]
@@ -103,6 +202,7 @@ pub fn run(b: Bench) -> Result<ExitCode> {
         Bench::Contact(args) => contact(args),
         Bench::Presets(args) => presets(args),
         Bench::Render(args) => render(args),
+        Bench::Scaling(args) => scaling(args),
     }
 }
 

@@ -115,3 +115,34 @@ fn scene_files_choose_the_broad_phase() {
     let err = Scene::from_toml(&text("octree")).unwrap_err().to_string();
     assert!(err.contains("line 7") && err.contains("octree"), "{err}");
 }
+
+/// The scaling benchmark's scenes: `tiled(heap, k)` is `k` copies of the heap side by side, in a
+/// box `k` times as wide, all awake with sleeping off; a step of it finds the same pairs per
+/// copy (so the tests per step grow `k` times, give or take the grains at the seams).
+#[test]
+fn tiled_heaps_are_side_by_side_copies() {
+    let mut scene = Scene::preset("circles").unwrap();
+    scene.spawn_interval = 2;
+    let mut heap = World::new(&scene);
+    for _ in 0..400 {
+        heap.step();
+    }
+    let width = heap.walls.right - heap.walls.left;
+    let three = supergrain::bench::tiled(&heap, 3, Kind::Grid);
+    assert_eq!(three.bodies.len(), 3 * heap.bodies.len());
+    assert_eq!(three.walls.right, heap.walls.left + 3.0 * width);
+    assert_eq!(three.settings.sleep_radius, 0.0);
+    for (k, b) in three.bodies.iter().enumerate() {
+        let original = &heap.bodies[k % heap.bodies.len()];
+        let copy = (k / heap.bodies.len()) as f64;
+        assert_eq!(b.center.x, original.center.x + copy * width);
+        assert_eq!(b.center.y, original.center.y);
+        assert!(!b.asleep(&three.settings));
+    }
+    let (mut one, mut three) = (supergrain::bench::tiled(&heap, 1, Kind::Grid), three);
+    let (a, b) = (one.step().tests, three.step().tests);
+    assert!(
+        (2.5 * a as f64..=3.5 * a as f64).contains(&(b as f64)),
+        "{a} tests for one copy, {b} for three"
+    );
+}

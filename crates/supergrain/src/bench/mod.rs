@@ -399,3 +399,88 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
         })
         .collect()
 }
+
+/// One whole-simulation step measured at one size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalingResult {
+    pub grains: usize,
+    pub broad_phase: &'static str,
+    /// Median milliseconds per step.
+    pub ms_per_step: f64,
+    /// `ms_per_step` per grain, in microseconds.
+    pub us_per_grain_step: f64,
+    /// Narrow-phase tests per step.
+    pub tests_per_step: f64,
+}
+
+/// `copies` side-by-side copies of a settled heap (a dump's world), in one box `copies` times as
+/// wide, every grain awake and sleeping off, so that each step does a settling heap's full work.
+pub fn tiled(
+    heap: &crate::world::World,
+    copies: usize,
+    broad_phase: crate::broad_phase::Kind,
+) -> crate::world::World {
+    use crate::solver::Body;
+    let w = heap.walls;
+    let width = w.right - w.left;
+    let mut bodies = Vec::with_capacity(heap.bodies.len() * copies);
+    for c in 0..copies {
+        let shift = Vec2::new(width * c as f64, 0.0);
+        bodies.extend(heap.bodies.iter().map(|b| Body {
+            center: b.center + shift,
+            previous_center: b.previous_center + shift,
+            anchor: b.anchor + shift,
+            calm: 0,
+            ..*b
+        }));
+    }
+    let mut settings = heap.settings;
+    settings.sleep_radius = 0.0;
+    settings.broad_phase = broad_phase;
+    let walls = crate::solver::Walls {
+        right: w.left + width * copies as f64,
+        ..w
+    };
+    crate::world::World::from_parts(bodies, walls, settings, 0, heap.top, Default::default())
+}
+
+/// The cost of a step of `heap` tiled to each size in `copies`, with each broad phase in
+/// `kinds`: `warmup` steps untimed, then the median of `steps` timed ones.
+pub fn scaling_cases(
+    heap: &crate::world::World,
+    copies: &[usize],
+    kinds: &[crate::broad_phase::Kind],
+    warmup: usize,
+    steps: usize,
+) -> Vec<ScalingResult> {
+    use crate::broad_phase::Kind;
+    let mut out = Vec::new();
+    for &n in copies {
+        for &kind in kinds {
+            let mut world = tiled(heap, n, kind);
+            for _ in 0..warmup {
+                world.step();
+            }
+            let mut times = Vec::with_capacity(steps);
+            let mut tests = 0usize;
+            for _ in 0..steps {
+                let start = Instant::now();
+                tests += world.step().tests;
+                times.push(start.elapsed().as_secs_f64() * 1e3);
+            }
+            times.sort_by(f64::total_cmp);
+            let ms = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
+            out.push(ScalingResult {
+                grains: world.bodies.len(),
+                broad_phase: match kind {
+                    Kind::Grid => "grid",
+                    Kind::AllPairs => "all-pairs",
+                },
+                ms_per_step: ms,
+                us_per_grain_step: ms * 1e3 / world.bodies.len().max(1) as f64,
+                tests_per_step: tests as f64 / steps.max(1) as f64,
+            });
+        }
+    }
+    out
+}
