@@ -5,18 +5,17 @@
 //! and file-handling contract.
 
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 
 use serde_json::Value;
 
+mod common;
+use common::{dir_entries, p, stderr, stdout, supergrain};
+
 // ---------------------------------------------------------------------------------------------
 // Helpers
 // ---------------------------------------------------------------------------------------------
-
-fn supergrain() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_supergrain"))
-}
 
 /// Runs the binary with `args`, feeding `stdin` (empty if `None`).
 fn run(args: &[&str], stdin: Option<&str>) -> Output {
@@ -37,14 +36,6 @@ fn run(args: &[&str], stdin: Option<&str>) -> Output {
         }
     }
     child.wait_with_output().expect("wait for supergrain")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8(o.stderr.clone()).expect("stderr is UTF-8")
 }
 
 fn assert_no_panic(o: &Output) {
@@ -138,20 +129,6 @@ fn circles_line(d: f64, extra: &str) -> String {
         unit_circle_at(0.0),
         unit_circle_at(d)
     )
-}
-
-/// File names in `dir`, sorted.
-fn dir_entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("read dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
-fn path_str(p: &Path) -> &str {
-    p.to_str().expect("UTF-8 temp path")
 }
 
 const A_CIRCLE: &str = "0,0,0,1,1,2,2";
@@ -587,7 +564,7 @@ fn batch_from_a_file_equals_stdin_and_blank_lines_are_errors() {
     std::fs::write(&file, &input).expect("write batch");
 
     let from_stdin = run(&["contact", "--batch", "-"], Some(&input));
-    let from_file = run(&["contact", "--batch", path_str(&file)], None);
+    let from_file = run(&["contact", "--batch", p(&file)], None);
     for o in [&from_stdin, &from_file] {
         assert_no_panic(o);
         assert_eq!(o.status.code(), Some(1));
@@ -697,10 +674,7 @@ fn output_file_holds_exactly_what_stdout_would_and_no_temp_files_remain() {
 
     let expected = ok(&run(&["contact", "--batch", "-"], Some(&input)));
     assert_eq!(expected.lines().count(), 2);
-    let o = run(
-        &["contact", "--batch", "-", "-o", path_str(&target)],
-        Some(&input),
-    );
+    let o = run(&["contact", "--batch", "-", "-o", p(&target)], Some(&input));
     assert_eq!(ok(&o), "", "with -o nothing goes to stdout");
     assert_eq!(std::fs::read_to_string(&target).expect("read"), expected);
     assert_eq!(
@@ -723,7 +697,7 @@ fn output_file_holds_exactly_what_stdout_would_and_no_temp_files_remain() {
             "--b",
             B_CIRCLE_19,
             "--output",
-            path_str(&single),
+            p(&single),
         ],
         None,
     );
@@ -742,15 +716,12 @@ fn unwritable_output_fails_naming_the_path_and_leaves_nothing_behind() {
     // Inside a directory that does not exist.
     let missing_dir: PathBuf = dir.path().join("no-such-dir");
     let target = missing_dir.join("answers.jsonl");
-    let o = run(
-        &["contact", "--batch", "-", "-o", path_str(&target)],
-        Some(&input),
-    );
+    let o = run(&["contact", "--batch", "-", "-o", p(&target)], Some(&input));
     assert_no_panic(&o);
     assert!(!o.status.success());
     assert!(stdout(&o).is_empty(), "answers leaked to stdout");
     assert!(
-        stderr(&o).contains(path_str(&target)),
+        stderr(&o).contains(p(&target)),
         "stderr does not name the path:\n{}",
         stderr(&o)
     );
@@ -765,13 +736,10 @@ fn unwritable_output_fails_naming_the_path_and_leaves_nothing_behind() {
     // place, and the temporary file beside it must be removed.
     let subdir = dir.path().join("taken");
     std::fs::create_dir(&subdir).expect("mkdir");
-    let o = run(
-        &["contact", "--batch", "-", "-o", path_str(&subdir)],
-        Some(&input),
-    );
+    let o = run(&["contact", "--batch", "-", "-o", p(&subdir)], Some(&input));
     assert_no_panic(&o);
     assert!(!o.status.success());
-    assert!(stderr(&o).contains(path_str(&subdir)), "{}", stderr(&o));
+    assert!(stderr(&o).contains(p(&subdir)), "{}", stderr(&o));
     assert!(subdir.is_dir() && dir_entries(&subdir).is_empty());
     assert_eq!(
         dir_entries(dir.path()),
@@ -784,22 +752,12 @@ fn unwritable_output_fails_naming_the_path_and_leaves_nothing_behind() {
     std::fs::write(&target, "old\n").expect("write");
     let missing_batch = dir.path().join("missing.jsonl");
     let o = run(
-        &[
-            "contact",
-            "--batch",
-            path_str(&missing_batch),
-            "-o",
-            path_str(&target),
-        ],
+        &["contact", "--batch", p(&missing_batch), "-o", p(&target)],
         None,
     );
     assert_no_panic(&o);
     assert!(!o.status.success());
-    assert!(
-        stderr(&o).contains(path_str(&missing_batch)),
-        "{}",
-        stderr(&o)
-    );
+    assert!(stderr(&o).contains(p(&missing_batch)), "{}", stderr(&o));
     assert_eq!(std::fs::read_to_string(&target).expect("read"), "old\n");
     assert_eq!(dir_entries(dir.path()), ["keep.jsonl", "taken"]);
 }
@@ -817,10 +775,7 @@ fn output_file_is_written_even_when_some_batch_lines_fail() {
 
     let to_stdout = run(&["contact", "--batch", "-"], Some(&input));
     assert_eq!(to_stdout.status.code(), Some(1));
-    let o = run(
-        &["contact", "--batch", "-", "-o", path_str(&target)],
-        Some(&input),
-    );
+    let o = run(&["contact", "--batch", "-", "-o", p(&target)], Some(&input));
     assert_no_panic(&o);
     assert_eq!(
         o.status.code(),

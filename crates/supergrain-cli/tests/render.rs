@@ -5,102 +5,19 @@
 //! a message naming the file, nothing left behind, no panic).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
 
 use serde_json::Value;
+
+mod common;
+use common::*;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
 // ---------------------------------------------------------------------------------------------
 
-fn sg(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_supergrain"))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .output()
-        .expect("run supergrain")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// Asserts success without a panic.
-fn ok(o: &Output) {
-    let err = stderr(o);
-    assert!(!err.contains("panicked"), "the command panicked:\n{err}");
-    assert!(
-        o.status.success(),
-        "expected success, got {:?}\nstderr:\n{err}",
-        o.status
-    );
-}
-
-/// Asserts a clean failure (exit code 1, an `error:` message, no panic, nothing on stdout);
-/// returns stderr.
-fn failed(o: &Output) -> String {
-    let err = stderr(o);
-    assert!(!err.contains("panicked"), "the command panicked:\n{err}");
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "expected exit code 1, got {:?}\nstderr:\n{err}",
-        o.status
-    );
-    assert!(err.starts_with("error: "), "no error message:\n{err}");
-    assert!(o.stdout.is_empty(), "stdout not empty");
-    err
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 temp path")
-}
-
-/// File names in `dir` (hidden ones included), sorted.
-fn dir_entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("read dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
-fn read_bytes(path: &Path) -> Vec<u8> {
-    std::fs::read(path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()))
-}
-
-/// A tiny circles scene (as in `tests/run.rs`): a 2 x 1 box, six discs of radius 0.2 to 0.3.
-const TINY_CIRCLES: &str = "\
-seed = 5
-steps = 200
-
-[box]
-left = -1.0
-right = 1.0
-floor = 0.0
-top = 1.0
-
-[spawn]
-interval = 1
-
-[[group]]
-name = \"discs\"
-count = 6
-radius = [0.2, 0.3]
-";
-
-fn write_scene(dir: &Path) -> PathBuf {
-    let path = dir.join("tiny.toml");
-    std::fs::write(&path, TINY_CIRCLES).expect("write scene");
-    path
-}
-
 /// A dump of the tiny scene after `steps` steps.
 fn make_dump(dir: &Path, steps: u32) -> PathBuf {
-    let scene = write_scene(dir);
+    let scene = write_scene(dir, "tiny.toml", TINY_CIRCLES);
     let dump = dir.join("state.json");
     ok(&sg(&[
         "run",
@@ -492,7 +409,7 @@ fn render_rejects_out_of_range_options() {
 /// Runs the tiny scene for `steps` steps with every picture output, `--every 10`, 120 pixels
 /// wide, into `dir`.
 fn run_pictures(dir: &Path, steps: u32) -> (PathBuf, PathBuf, PathBuf) {
-    let scene = write_scene(dir);
+    let scene = write_scene(dir, "tiny.toml", TINY_CIRCLES);
     let gif = dir.join("a.gif");
     let frames = dir.join("frames");
     let last = dir.join("last.png");
@@ -605,7 +522,7 @@ fn gif_frames_fit_the_logical_screen() {
 #[test]
 fn run_with_unwritable_picture_outputs_fails_before_work() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let scene = write_scene(dir.path());
+    let scene = write_scene(dir.path(), "tiny.toml", TINY_CIRCLES);
     let missing = dir.path().join("no-such-dir");
     for flag in ["--png", "--gif"] {
         let target = missing.join("x.out");

@@ -5,89 +5,21 @@
 //! output format of the same run, the other narrow phase), and the documented error contract.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::path::Path;
+use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
 use serde_json::Value;
+
+mod common;
+use common::*;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
 // ---------------------------------------------------------------------------------------------
 
-fn supergrain() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_supergrain"))
-}
-
-/// Runs `supergrain` with `args`, stdin closed, stdout and stderr captured (so neither is a
-/// terminal).
-fn sg(args: &[&str]) -> Output {
-    supergrain()
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .output()
-        .expect("run supergrain")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8(o.stderr.clone()).expect("stderr is UTF-8")
-}
-
-/// Asserts success without a panic; returns stderr.
-fn ok(o: &Output) -> String {
-    let err = stderr(o);
-    assert!(!err.contains("panicked"), "the command panicked:\n{err}");
-    assert!(
-        o.status.success(),
-        "expected success, got {:?}\nstdout:\n{}\nstderr:\n{err}",
-        o.status,
-        stdout(o),
-    );
-    err
-}
-
-/// Asserts a clean failure (exit code 1, an `error:` message, no panic, nothing on stdout);
-/// returns stderr.
-fn failed(o: &Output) -> String {
-    let err = stderr(o);
-    assert!(!err.contains("panicked"), "the command panicked:\n{err}");
-    assert_eq!(
-        o.status.code(),
-        Some(1),
-        "expected exit code 1, got {:?}\nstderr:\n{err}",
-        o.status
-    );
-    assert!(err.starts_with("error: "), "no error message:\n{err}");
-    assert!(stdout(o).is_empty(), "stdout not empty: {}", stdout(o));
-    err
-}
-
-fn p(path: &Path) -> &str {
-    path.to_str().expect("UTF-8 temp path")
-}
-
-/// File names in `dir` (hidden ones included), sorted.
-fn dir_entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .expect("read dir")
-        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
-
 fn read(path: &Path) -> String {
     std::fs::read_to_string(path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()))
-}
-
-fn read_bytes(path: &Path) -> Vec<u8> {
-    std::fs::read(path).unwrap_or_else(|e| panic!("read {}: {e}", path.display()))
 }
 
 fn read_json(path: &Path) -> Value {
@@ -164,32 +96,6 @@ fn check_circles_in_box_and_apart(gs: &[Grain], w: &Walls, tol: f64) {
             );
         }
     }
-}
-
-/// A tiny circles scene whose grains land and pile up within 150 steps: many contacts, fast.
-const TINY_CIRCLES: &str = "\
-seed = 5
-steps = 200
-
-[box]
-left = -1.0
-right = 1.0
-floor = 0.0
-top = 1.0
-
-[spawn]
-interval = 1
-
-[[group]]
-name = \"discs\"
-count = 6
-radius = [0.2, 0.3]
-";
-
-fn write_scene(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write scene");
-    path
 }
 
 /// One trajectory row, numbers parsed, with its text.
