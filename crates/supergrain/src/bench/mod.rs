@@ -319,31 +319,16 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
     use crate::render::Pen;
     use crate::render::raster::{Antialias, View, paint_shape_with};
     use crate::render::{exponent_colour, world_region};
-    use tiny_skia::{Color, Path, PathBuilder, Pixmap};
+    use tiny_skia::{Color, Path, Pixmap};
 
     let view = View::fit(world_region(world), width);
     let mut pixmap = Pixmap::new(view.width, view.height).expect("a non-empty frame");
-    let polygon = |b: &crate::solver::Body| -> Option<Path> {
-        let pose = b.pose();
-        let mut pb = PathBuilder::new();
-        for i in 0..64 {
-            let p = pose.to_world(
-                b.shape
-                    .boundary_point(f64::from(i) * std::f64::consts::TAU / 64.0),
-            );
-            let (x, y) = view.to_pixel(p);
-            if i == 0 {
-                pb.move_to(x, y);
-            } else {
-                pb.line_to(x, y);
-            }
-        }
-        pb.close();
-        pb.finish()
-    };
     // The same anti-aliased solid fill the overlays use.
     let mut pen = Pen::new(&view);
-    let prebuilt: Vec<Option<Path>> = world.bodies.iter().map(polygon).collect();
+    let polygon = |pen: &Pen, b: &crate::solver::Body| -> Option<Path> {
+        pen.path(&b.shape.boundary_polygon(&b.pose(), 64), true)
+    };
+    let prebuilt: Vec<Option<Path>> = world.bodies.iter().map(|b| polygon(&pen, b)).collect();
     let names = [
         "interval quadtree, tangent-line aa",
         "interval quadtree, split aa 2",
@@ -369,7 +354,7 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
                         paint_shape_with(pixmap.data_mut(), &view, &placed, colour, aa);
                     }
                     3 => {
-                        if let Some(path) = polygon(b) {
+                        if let Some(path) = polygon(&pen, b) {
                             pen.fill(&mut pixmap, &path, colour);
                         }
                     }
