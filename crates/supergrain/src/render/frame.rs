@@ -9,8 +9,7 @@ use super::raster::{Antialias, Rgba, View, paint_shape_with};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::PlacedSuperellipse;
 use crate::shape::Superellipse;
-use crate::solver::{grain_contact, wall_contact};
-use crate::world::World;
+use crate::world::{Touch, World};
 
 /// How grains are coloured.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,13 +145,8 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
             3.0,
         );
     }
-    // Both overlays need every grain's box: made once.
-    let boxes: Vec<Aabb> = if style.boxes || style.contacts {
-        world.bodies.iter().map(|b| b.bounding_box()).collect()
-    } else {
-        Vec::new()
-    };
     if style.boxes {
+        let boxes: Vec<Aabb> = world.bodies.iter().map(|b| b.bounding_box()).collect();
         for (i, bi) in boxes.iter().enumerate() {
             for bj in &boxes[i + 1..] {
                 if let Some(common) = bi.intersection(bj) {
@@ -165,33 +159,26 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
         }
     }
     if style.contacts {
-        draw_contacts(world, &boxes, &mut pixmap, &mut pen);
+        draw_contacts(world, &mut pixmap, &mut pen);
     }
     pixmap
 }
 
 /// Deepest points (dots) and penetration vectors (lines) of every grain-grain and grain-wall
 /// contact, as the solver sees them.
-fn draw_contacts(world: &World, boxes: &[Aabb], pixmap: &mut Pixmap, pen: &mut Pen) {
+fn draw_contacts(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
     let vector = [0xd8, 0x1b, 0x60, 255];
     let point = [0x21, 0x21, 0x21, 255];
-    for (i, a) in world.bodies.iter().enumerate() {
-        for (j, b) in world.bodies.iter().enumerate().skip(i + 1) {
-            if !boxes[i].intersects(&boxes[j]) {
-                continue;
+    world.contacts(|t| {
+        let ends = match t {
+            Touch::Grains(_, _, p) => {
+                [Some((p.a_deepest, p.a_push)), Some((p.b_deepest, p.b_push))]
             }
-            if let Some(p) = grain_contact(&world.settings, a, b).penetration {
-                for (from, push) in [(p.a_deepest, p.a_push), (p.b_deepest, p.b_push)] {
-                    pen.polyline(pixmap, &[from, from + push], vector, 1.5);
-                    pen.dot(pixmap, from, point, 2.0);
-                }
-            }
+            Touch::Wall(_, p) => [Some((p.deepest, p.push)), None],
+        };
+        for (from, push) in ends.into_iter().flatten() {
+            pen.polyline(pixmap, &[from, from + push], vector, 1.5);
+            pen.dot(pixmap, from, point, 2.0);
         }
-        for wall in &world.walls.half_planes() {
-            if let Some(p) = wall_contact(&world.settings, a, wall).penetration {
-                pen.polyline(pixmap, &[p.deepest, p.deepest + p.push], vector, 1.5);
-                pen.dot(pixmap, p.deepest, point, 2.0);
-            }
-        }
-    }
+    });
 }

@@ -11,7 +11,8 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::broad_phase::Any as AnyBroadPhase;
+use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
+use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
 use crate::shape::{Pose, Superellipse};
 use crate::solver::{
@@ -237,26 +238,49 @@ impl World {
             .fold(0.0, f64::max)
     }
 
-    /// The longest penetration vector among all overlapping pairs and grain-wall contacts.
-    pub fn deepest_penetration(&self) -> f64 {
-        let mut deepest = 0.0f64;
+    /// Every grain-grain and grain-wall contact of the current state, as the solver sees it: for
+    /// each grain `i` in turn, its contacts with the grains `j > i`, in increasing `j`, then with
+    /// the walls. Pairs come from a grid, so this takes time linear in the number of grains.
+    pub fn contacts(&self, mut f: impl FnMut(Touch)) {
         let walls = self.walls.half_planes();
         let boxes: Vec<Aabb> = self.bodies.iter().map(Body::bounding_box).collect();
+        let mut grid = Grid::new();
+        grid.rebuild(&boxes);
+        let mut near = Vec::new();
         for (i, a) in self.bodies.iter().enumerate() {
-            for w in &walls {
-                if let Some(p) = wall_contact(&self.settings, a, w).penetration {
-                    deepest = deepest.max(p.push.norm());
+            near.clear();
+            grid.candidates(i, &boxes, &mut near);
+            for &j in near.iter().filter(|&&j| j > i) {
+                if let Some(p) = grain_contact(&self.settings, a, &self.bodies[j]).penetration {
+                    f(Touch::Grains(i, j, p));
                 }
             }
-            for (b, bb) in self.bodies[i + 1..].iter().zip(&boxes[i + 1..]) {
-                if !boxes[i].intersects(bb) {
-                    continue;
-                }
-                if let Some(p) = grain_contact(&self.settings, a, b).penetration {
-                    deepest = deepest.max(p.a_push.norm()).max(p.b_push.norm());
+            for w in &walls {
+                if let Some(p) = wall_contact(&self.settings, a, w).penetration {
+                    f(Touch::Wall(i, p));
                 }
             }
         }
+    }
+
+    /// The longest penetration vector among all overlapping pairs and grain-wall contacts.
+    pub fn deepest_penetration(&self) -> f64 {
+        let mut deepest = 0.0f64;
+        self.contacts(|t| {
+            deepest = deepest.max(match t {
+                Touch::Grains(_, _, p) => p.a_push.norm().max(p.b_push.norm()),
+                Touch::Wall(_, p) => p.push.norm(),
+            })
+        });
         deepest
     }
+}
+
+/// A contact found by [`World::contacts`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Touch {
+    /// Grains `i < j` overlap.
+    Grains(usize, usize, Penetration),
+    /// Grain `i` is in a wall.
+    Wall(usize, WallPenetration),
 }
