@@ -8,6 +8,7 @@ mod output;
 mod picture;
 mod render;
 mod run;
+mod view;
 
 use std::process::ExitCode;
 
@@ -37,6 +38,9 @@ enum Command {
     Figures(figures::Args),
     /// Test two superellipses for contact: deepest points and penetration vectors.
     Contact(contact::Args),
+    /// Watch a scene live in a window: play, pause, step, tune the solver, drop and drag grains,
+    /// and explore a collision test (needs a display; see the README for the browser version).
+    View(view::Args),
     /// Measure performance and print a table (or JSON).
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -49,6 +53,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render::run(args),
         Command::Figures(args) => figures::run(args),
         Command::Contact(args) => contact::run(args),
+        Command::View(args) => view::run(args),
         Command::Bench(b) => bench::run(b),
     };
     match result {

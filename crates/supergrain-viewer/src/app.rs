@@ -1,0 +1,631 @@
+//! The window: egui panels around a canvas. It holds no simulation state of its own beyond the
+//! camera and the widgets' values; every change goes to the driver as a [`Command`].
+
+use std::sync::Arc;
+
+use eframe::egui::{
+    self, Color32, Mesh, PointerButton, Pos2, Rect, Sense, Shape, Stroke, Vec2 as EVec2,
+};
+use supergrain::geometry::{Aabb, Vec2};
+use supergrain::render::exponent_colour;
+use supergrain::shape::{Pose, Superellipse};
+use supergrain::subdivision::Class;
+
+use crate::driver::{Driver, Meter};
+use crate::explorer::Explorer;
+use crate::sim::{Command, DropShape, MAX_DEPTH, MAX_ITERATIONS, MAX_SPEED, Sim, Snapshot};
+
+/// How the window was asked to behave (the `supergrain view` options).
+#[derive(Clone, Debug, Default)]
+pub struct Launch {
+    /// Print `fps ... steps/s ...` once a second on standard output.
+    pub log_fps: bool,
+    /// Close by itself after this many seconds.
+    pub quit_after: Option<f64>,
+    /// Start paused.
+    pub paused: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    Simulation,
+    Explorer,
+}
+
+/// The plane's view on the canvas: a point in the plane at the canvas's centre and pixels per
+/// unit; `y` grows upwards in the plane and downwards on screen.
+#[derive(Clone, Copy, Debug)]
+struct Camera {
+    center: Vec2,
+    scale: f64,
+}
+
+impl Camera {
+    fn fit(region: Aabb, rect: Rect) -> Camera {
+        let sx = f64::from(rect.width()) / region.width();
+        let sy = f64::from(rect.height()) / region.height();
+        Camera {
+            center: region.center(),
+            scale: 0.92 * sx.min(sy),
+        }
+    }
+
+    fn to_screen(self, rect: Rect, p: Vec2) -> Pos2 {
+        let c = rect.center();
+        Pos2::new(
+            c.x + ((p.x - self.center.x) * self.scale) as f32,
+            c.y - ((p.y - self.center.y) * self.scale) as f32,
+        )
+    }
+
+    fn to_plane(self, rect: Rect, q: Pos2) -> Vec2 {
+        let c = rect.center();
+        Vec2::new(
+            self.center.x + f64::from(q.x - c.x) / self.scale,
+            self.center.y - f64::from(q.y - c.y) / self.scale,
+        )
+    }
+
+    /// Zoom by `factor` about the screen point `at`, which keeps its place in the plane.
+    fn zoom(&mut self, rect: Rect, at: Pos2, factor: f64) {
+        let before = self.to_plane(rect, at);
+        self.scale = (self.scale * factor).clamp(1.0, 1e5);
+        let after = self.to_plane(rect, at);
+        self.center += before - after;
+    }
+}
+
+/// The viewer application.
+pub struct App {
+    driver: Driver,
+    launch: Launch,
+    mode: Mode,
+    camera: Option<Camera>,
+    explorer_camera: Option<Camera>,
+    explorer: Explorer,
+    fps: Meter,
+    started: Option<f64>,
+    last_log: f64,
+    /// Widget values that are only sent on a press.
+    open_path: String,
+    save_path: String,
+    shot_path: String,
+    last_label: String,
+}
+
+impl App {
+    pub fn new(sim: Sim, launch: Launch) -> App {
+        let mut driver = Driver::new(sim);
+        if launch.paused {
+            driver.send(Command::Pause);
+        }
+        App {
+            driver,
+            launch,
+            mode: Mode::Simulation,
+            camera: None,
+            explorer_camera: None,
+            explorer: Explorer::default(),
+            fps: Meter::default(),
+            started: None,
+            last_log: 0.0,
+            open_path: String::new(),
+            save_path: "supergrain-state.json".into(),
+            shot_path: "supergrain-screenshot.png".into(),
+            last_label: String::new(),
+        }
+    }
+
+    /// Called once the window exists: the worker asks for a repaint on each new snapshot.
+    pub fn attach(self, ctx: &egui::Context) -> App {
+        let ctx = ctx.clone();
+        self.driver.on_snapshot(move || ctx.request_repaint());
+        self
+    }
+}
+
+fn colour(rgba: [u8; 4]) -> Color32 {
+    Color32::from_rgba_unmultiplied(rgba[0], rgba[1], rgba[2], rgba[3])
+}
+
+fn darker(c: Color32) -> Color32 {
+    Color32::from_rgb(c.r() / 2, c.g() / 2, c.b() / 2)
+}
+
+/// A superellipse as a filled fan about its centre (every superellipse is star-shaped about
+/// it, so the fan is right for exponents below 1 too) with an anti-aliased outline.
+fn paint_grain(
+    painter: &egui::Painter,
+    cam: Camera,
+    rect: Rect,
+    shape: &Superellipse,
+    pose: &Pose,
+    fill: Color32,
+) {
+    let radius_px = shape.bounding_radius() * cam.scale;
+    if radius_px < 0.5 {
+        return;
+    }
+    let n = (radius_px * 1.5).clamp(12.0, 96.0) as u32;
+    let points: Vec<Pos2> = shape
+        .boundary_polygon(pose, n)
+        .into_iter()
+        .map(|p| cam.to_screen(rect, p))
+        .collect();
+    let mut mesh = Mesh::default();
+    mesh.colored_vertex(cam.to_screen(rect, pose.center()), fill);
+    for p in &points {
+        mesh.colored_vertex(*p, fill);
+    }
+    for i in 0..n {
+        mesh.add_triangle(0, 1 + i, 1 + (i + 1) % n);
+    }
+    painter.add(Shape::mesh(mesh));
+    painter.add(Shape::closed_line(points, Stroke::new(1.0, darker(fill))));
+}
+
+fn paint_box(painter: &egui::Painter, cam: Camera, rect: Rect, b: &Aabb, stroke: Stroke) {
+    let r = Rect::from_two_pos(cam.to_screen(rect, b.min), cam.to_screen(rect, b.max));
+    painter.rect_stroke(r, 0.0, stroke, egui::StrokeKind::Middle);
+}
+
+fn paint_arrow(painter: &egui::Painter, cam: Camera, rect: Rect, from: Vec2, push: Vec2) {
+    let (a, b) = (cam.to_screen(rect, from), cam.to_screen(rect, from + push));
+    let red = Color32::from_rgb(0xd8, 0x1b, 0x60);
+    painter.line_segment([a, b], Stroke::new(2.0, red));
+    painter.circle_filled(a, 3.0, Color32::from_rgb(0x1a, 0x23, 0x7e));
+}
+
+impl App {
+    fn top_bar(&mut self, ui: &mut egui::Ui, snap: &Snapshot, sps: f64) {
+        ui.horizontal_wrapped(|ui| {
+            ui.selectable_value(&mut self.mode, Mode::Simulation, "Simulation");
+            ui.selectable_value(&mut self.mode, Mode::Explorer, "Collision explorer");
+            ui.separator();
+            if snap.playing {
+                if ui.button("⏸ Pause").clicked() {
+                    self.driver.send(Command::Pause);
+                }
+            } else if ui.button("▶ Play").clicked() {
+                self.driver.send(Command::Play);
+            }
+            if ui.button("Step").clicked() {
+                self.driver.send(Command::Step);
+            }
+            if ui.button("Reset").clicked() {
+                self.driver.send(Command::Reset);
+            }
+            let mut speed = snap.speed;
+            if ui
+                .add(egui::Slider::new(&mut speed, 1..=MAX_SPEED).text("steps/frame"))
+                .changed()
+            {
+                self.driver.send(Command::Speed(speed));
+            }
+            ui.separator();
+            ui.label(format!(
+                "{:.0} fps · {:.0} steps/s · step {} · {} grains ({} asleep, {} to come)",
+                self.fps.rate(),
+                sps,
+                snap.step,
+                snap.grains.len(),
+                snap.asleep,
+                snap.pending
+            ));
+        });
+    }
+
+    fn side_panel(&mut self, ui: &mut egui::Ui, snap: &Snapshot) {
+        ui.heading("Scene");
+        ui.label(&snap.label);
+        egui::ComboBox::from_label("preset")
+            .selected_text("choose…")
+            .show_ui(ui, |ui| {
+                for name in crate::sim::presets() {
+                    if ui.selectable_label(false, *name).clicked() {
+                        self.driver.send(Command::Preset((*name).to_string()));
+                    }
+                }
+            });
+        #[cfg(not(target_arch = "wasm32"))]
+        ui.horizontal(|ui| {
+            ui.text_edit_singleline(&mut self.open_path)
+                .on_hover_text("a scene file (TOML); or drop one on the window");
+            if ui.button("Open").clicked() {
+                match std::fs::read_to_string(&self.open_path) {
+                    Ok(text) => self.driver.send(Command::Open {
+                        name: self.open_path.clone(),
+                        text,
+                    }),
+                    Err(e) => self.driver.send(Command::Open {
+                        name: self.open_path.clone(),
+                        text: format!("cannot read the file: {e}"),
+                    }),
+                }
+            }
+        });
+        #[cfg(target_arch = "wasm32")]
+        ui.label("Drop a scene file (TOML) on the page to open it.");
+
+        ui.separator();
+        ui.heading("Solver");
+        if let Some(mut t) = snap.tuning {
+            let before = t;
+            ui.add(
+                egui::Slider::new(&mut t.step, 0.001..=0.05)
+                    .logarithmic(true)
+                    .text("time step"),
+            );
+            ui.add(egui::Slider::new(&mut t.damping, 0.0..=1.0).text("damping"));
+            ui.add(egui::Slider::new(&mut t.iterations, 1..=MAX_ITERATIONS).text("iterations"));
+            ui.add(egui::Slider::new(&mut t.depth, 1..=MAX_DEPTH).text("quadtree depth"));
+            ui.add(
+                egui::Slider::new(&mut t.eps, 0.0..=0.1)
+                    .logarithmic(true)
+                    .text("quadtree eps"),
+            );
+            if t != before {
+                self.driver.send(Command::Tune(t));
+            }
+        }
+        ui.heading("Spawn rule");
+        if let Some(mut s) = snap.spawn {
+            let before = s;
+            ui.add(egui::Slider::new(&mut s.interval, 1..=200).text("steps between grains"));
+            ui.add(egui::Slider::new(&mut s.top, 1.0..=40.0).text("height"));
+            if s != before {
+                self.driver.send(Command::Spawn(s));
+            }
+            ui.small("applies from the next reset");
+        }
+
+        ui.separator();
+        ui.heading("Overlays");
+        let mut o = snap.overlays;
+        ui.checkbox(&mut o.boxes, "bounding boxes");
+        ui.checkbox(&mut o.cells, "quadtree cells of contacts");
+        ui.checkbox(&mut o.vectors, "penetration vectors");
+        if o != snap.overlays {
+            self.driver.send(Command::Overlays(o));
+        }
+
+        ui.separator();
+        ui.heading("Click to drop");
+        let mut d = snap.drop_shape;
+        shape_sliders(ui, &mut d.semi_axes, &mut d.exponents, &mut d.angle);
+        if d != snap.drop_shape {
+            self.driver.send(Command::DropShape(DropShape { ..d }));
+        }
+        ui.small(
+            "left click: drop · left drag on a grain: move it · right drag: pan · wheel: zoom",
+        );
+
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            ui.separator();
+            ui.heading("Save");
+            ui.horizontal(|ui| {
+                ui.text_edit_singleline(&mut self.shot_path);
+                if ui.button("Picture").clicked() {
+                    self.driver
+                        .screenshot(std::path::PathBuf::from(&self.shot_path), 1200);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.text_edit_singleline(&mut self.save_path);
+                if ui.button("State").clicked() {
+                    self.driver
+                        .save_state(std::path::PathBuf::from(&self.save_path));
+                }
+            });
+        }
+    }
+
+    fn canvas(&mut self, ui: &mut egui::Ui, snap: &Snapshot) {
+        let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+        let rect = response.rect;
+        painter.rect_filled(rect, 0.0, Color32::from_rgb(250, 250, 250));
+        let [left, right, floor] = snap.walls;
+        let region = Aabb::new(
+            Vec2::new(left, floor),
+            Vec2::new(right, snap.top.max(floor + 1.0)),
+        );
+        if self.last_label != snap.label {
+            self.camera = None;
+            self.last_label = snap.label.clone();
+        }
+        let cam = self.camera.get_or_insert_with(|| Camera::fit(region, rect));
+        pan_and_zoom(ui, &response, rect, cam);
+        let cam = *cam;
+
+        // The box: floor and walls up to where grains appear.
+        let wall = Stroke::new(2.0, Color32::from_gray(60));
+        let (bl, br) = (Vec2::new(left, floor), Vec2::new(right, floor));
+        let (tl, tr) = (Vec2::new(left, snap.top), Vec2::new(right, snap.top));
+        painter.line(
+            [tl, bl, br, tr].map(|p| cam.to_screen(rect, p)).to_vec(),
+            wall,
+        );
+        for (i, g) in snap.grains.iter().enumerate() {
+            let mut fill = colour(exponent_colour(&g.shape));
+            if g.asleep {
+                fill = fill.gamma_multiply(0.75);
+            }
+            if snap.held == Some(i) {
+                fill = Color32::from_rgb(0xff, 0xb3, 0x00);
+            }
+            paint_grain(&painter, cam, rect, &g.shape, &g.pose, fill);
+        }
+        if snap.overlays.boxes {
+            for g in &snap.grains {
+                let b = g.shape.bounding_box(&g.pose);
+                paint_box(
+                    &painter,
+                    cam,
+                    rect,
+                    &b,
+                    Stroke::new(1.0, Color32::from_gray(90)),
+                );
+            }
+        }
+        for c in &snap.cells {
+            let pts = c.corners.map(|p| cam.to_screen(rect, p)).to_vec();
+            let (fill, line) = if c.inside_both {
+                (
+                    Color32::from_rgba_unmultiplied(0xff, 0x98, 0x00, 150),
+                    Color32::from_rgb(0xe6, 0x51, 0x00),
+                )
+            } else {
+                (Color32::TRANSPARENT, Color32::from_rgb(0x15, 0x65, 0xc0))
+            };
+            painter.add(Shape::convex_polygon(pts, fill, Stroke::new(0.5, line)));
+        }
+        if snap.overlays.vectors {
+            for p in &snap.contacts {
+                paint_arrow(&painter, cam, rect, p.a_deepest, p.a_push);
+                paint_arrow(&painter, cam, rect, p.b_deepest, p.b_push);
+            }
+            for p in &snap.wall_contacts {
+                paint_arrow(&painter, cam, rect, p.deepest, p.push);
+            }
+        }
+
+        // The hand: click to drop, drag a grain to move it.
+        if response.drag_started_by(PointerButton::Primary)
+            && let Some(q) = response.interact_pointer_pos()
+        {
+            self.driver.send(Command::Grab(cam.to_plane(rect, q)));
+        }
+        if response.dragged_by(PointerButton::Primary)
+            && let Some(q) = response.interact_pointer_pos()
+        {
+            self.driver.send(Command::DragTo(cam.to_plane(rect, q)));
+        }
+        if response.drag_stopped() {
+            self.driver.send(Command::Release);
+        }
+        if response.clicked_by(PointerButton::Primary)
+            && let Some(q) = response.interact_pointer_pos()
+        {
+            self.driver.send(Command::Drop(cam.to_plane(rect, q)));
+        }
+    }
+
+    fn explorer_panel(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Shape A (fixed)");
+        let a = &mut self.explorer.a;
+        shape_sliders(ui, &mut a.semi_axes, &mut a.exponents, &mut a.angle);
+        ui.heading("Shape B (follows the mouse)");
+        let b = &mut self.explorer.b;
+        shape_sliders(ui, &mut b.semi_axes, &mut b.exponents, &mut b.angle);
+        ui.heading("Quadtree");
+        ui.add(egui::Slider::new(&mut self.explorer.depth, 1..=MAX_DEPTH).text("depth"));
+        ui.small("Cells: grey outside either shape, orange inside both, blue on a boundary (filled at the last level). Dots: the deepest points; red: the penetration vectors.");
+    }
+
+    fn explorer_canvas(&mut self, ui: &mut egui::Ui) {
+        let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
+        let rect = response.rect;
+        painter.rect_filled(rect, 0.0, Color32::WHITE);
+        let cam = self
+            .explorer_camera
+            .get_or_insert_with(|| Camera::fit(Explorer::region(), rect));
+        pan_and_zoom(ui, &response, rect, cam);
+        let cam = *cam;
+        if let Some(q) = response.hover_pos() {
+            self.explorer.b_center = cam.to_plane(rect, q);
+        }
+        let eval = match self.explorer.evaluate() {
+            Ok(e) => e,
+            Err(e) => {
+                painter.text(
+                    rect.center(),
+                    egui::Align2::CENTER_CENTER,
+                    e,
+                    egui::FontId::proportional(16.0),
+                    Color32::RED,
+                );
+                return;
+            }
+        };
+        let tints = [
+            Color32::from_rgba_unmultiplied(0x2e, 0x7d, 0x32, 70),
+            Color32::from_rgba_unmultiplied(0x6a, 0x1b, 0x9a, 70),
+        ];
+        for ((shape, pose), tint) in eval.shapes.iter().zip(tints) {
+            paint_grain(&painter, cam, rect, shape, pose, tint);
+        }
+        for c in &eval.cells {
+            let pts = c.corners.map(|p| cam.to_screen(rect, p)).to_vec();
+            let (fill, line) = if c.a == Class::Outside || c.b == Class::Outside {
+                (Color32::TRANSPARENT, Color32::from_gray(170))
+            } else if c.a == Class::Inside && c.b == Class::Inside {
+                (
+                    Color32::from_rgba_unmultiplied(0xff, 0x98, 0x00, 170),
+                    Color32::from_rgb(0xe6, 0x51, 0x00),
+                )
+            } else if c.last {
+                (
+                    Color32::from_rgba_unmultiplied(0x64, 0xb5, 0xf6, 150),
+                    Color32::from_rgb(0x15, 0x65, 0xc0),
+                )
+            } else {
+                (Color32::TRANSPARENT, Color32::from_rgb(0x15, 0x65, 0xc0))
+            };
+            painter.add(Shape::convex_polygon(pts, fill, Stroke::new(0.6, line)));
+        }
+        let common = eval.boxes[0].intersection(&eval.boxes[1]);
+        for b in eval.boxes.iter().chain(common.iter()) {
+            paint_box(
+                &painter,
+                cam,
+                rect,
+                b,
+                Stroke::new(1.0, Color32::from_gray(100)),
+            );
+        }
+        let text = match eval.contact.penetration {
+            Some(p) => {
+                paint_arrow(&painter, cam, rect, p.a_deepest, p.a_push);
+                paint_arrow(&painter, cam, rect, p.b_deepest, p.b_push);
+                format!(
+                    "overlap · penetration {:.4} · {} cells",
+                    p.a_push.norm().max(p.b_push.norm()),
+                    eval.contact.cells
+                )
+            }
+            None => format!(
+                "apart (or within a final cell) · {} cells",
+                eval.contact.cells
+            ),
+        };
+        painter.text(
+            rect.left_top() + EVec2::new(8.0, 8.0),
+            egui::Align2::LEFT_TOP,
+            text,
+            egui::FontId::proportional(15.0),
+            Color32::BLACK,
+        );
+    }
+
+    fn dropped_files(&mut self, ctx: &egui::Context) {
+        let dropped = ctx.input(|i| i.raw.dropped_files.clone());
+        for f in dropped {
+            let text = if let Some(bytes) = &f.bytes {
+                String::from_utf8(bytes.to_vec()).map_err(|_| "not UTF-8 text".to_string())
+            } else if let Some(path) = &f.path {
+                std::fs::read_to_string(path).map_err(|e| e.to_string())
+            } else {
+                Err("nothing to read".to_string())
+            };
+            let name = if f.name.is_empty() {
+                f.path
+                    .as_ref()
+                    .map(|p| p.display().to_string())
+                    .unwrap_or_default()
+            } else {
+                f.name.clone()
+            };
+            let text = text.unwrap_or_else(|e| format!("cannot read the file: {e}"));
+            self.driver.send(Command::Open { name, text });
+        }
+    }
+}
+
+fn shape_sliders(
+    ui: &mut egui::Ui,
+    semi_axes: &mut [f64; 2],
+    exponents: &mut [f64; 2],
+    angle: &mut f64,
+) {
+    ui.add(egui::Slider::new(&mut semi_axes[0], 0.05..=2.0).text("semi-axis x"));
+    ui.add(egui::Slider::new(&mut semi_axes[1], 0.05..=2.0).text("semi-axis y"));
+    ui.add(
+        egui::Slider::new(&mut exponents[0], 0.3..=10.0)
+            .logarithmic(true)
+            .text("exponent x"),
+    );
+    ui.add(
+        egui::Slider::new(&mut exponents[1], 0.3..=10.0)
+            .logarithmic(true)
+            .text("exponent y"),
+    );
+    ui.add(egui::Slider::new(angle, -3.2..=3.2).text("angle"));
+}
+
+fn pan_and_zoom(ui: &egui::Ui, response: &egui::Response, rect: Rect, cam: &mut Camera) {
+    if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
+        let d = response.drag_delta();
+        cam.center -= Vec2::new(f64::from(d.x) / cam.scale, -f64::from(d.y) / cam.scale);
+    }
+    if let Some(at) = response.hover_pos() {
+        let (scroll, zoom) = ui.input(|i| (i.smooth_scroll_delta.y, i.zoom_delta()));
+        let factor = f64::from(zoom) * (f64::from(scroll) * 0.002).exp();
+        if factor != 1.0 {
+            cam.zoom(rect, at, factor);
+        }
+    }
+}
+
+impl eframe::App for App {
+    fn update(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
+        let now = ctx.input(|i| i.time);
+        let started = *self.started.get_or_insert(now);
+        self.fps.count(1, now);
+        self.dropped_files(ctx);
+        let frame = self.driver.frame(now);
+        let snap: Arc<Snapshot> = frame.snapshot;
+
+        if self.launch.log_fps && now - self.last_log >= 1.0 {
+            self.last_log = now;
+            println!(
+                "fps {:.1} steps/s {:.1} step {} grains {}",
+                self.fps.rate(),
+                frame.steps_per_second,
+                snap.step,
+                snap.grains.len()
+            );
+        }
+        if let Some(t) = self.launch.quit_after
+            && now - started >= t
+        {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
+
+        egui::TopBottomPanel::top("controls")
+            .show(ctx, |ui| self.top_bar(ui, &snap, frame.steps_per_second));
+        egui::TopBottomPanel::bottom("status").show(ctx, |ui| {
+            ui.label(
+                snap.message
+                    .as_deref()
+                    .unwrap_or("Drop a scene file on the window to open it."),
+            );
+        });
+        match self.mode {
+            Mode::Simulation => {
+                egui::SidePanel::left("settings")
+                    .resizable(false)
+                    .show(ctx, |ui| {
+                        egui::ScrollArea::vertical().show(ui, |ui| self.side_panel(ui, &snap))
+                    });
+                egui::CentralPanel::default()
+                    .frame(egui::Frame::NONE)
+                    .show(ctx, |ui| self.canvas(ui, &snap));
+            }
+            Mode::Explorer => {
+                egui::SidePanel::left("explorer")
+                    .resizable(false)
+                    .show(ctx, |ui| {
+                        egui::ScrollArea::vertical().show(ui, |ui| self.explorer_panel(ui))
+                    });
+                egui::CentralPanel::default()
+                    .frame(egui::Frame::NONE)
+                    .show(ctx, |ui| self.explorer_canvas(ui));
+            }
+        }
+        // Keep drawing while the grains move (natively the worker also asks on each snapshot).
+        if snap.playing || self.launch.quit_after.is_some() || self.launch.log_fps {
+            ctx.request_repaint();
+        }
+    }
+}

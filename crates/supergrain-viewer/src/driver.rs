@@ -1,0 +1,223 @@
+//! Who runs the simulation. Natively a worker thread steps the world, so a slow step (a deep
+//! heap forming costs a few tenths of a second) never freezes the window, which keeps drawing
+//! the last snapshot at its own frame rate. In the browser, without threads, the page steps
+//! the world between frames.
+
+use std::sync::Arc;
+
+use crate::sim::Snapshot;
+
+/// Steps per second over the last second or so, from times in seconds.
+#[derive(Clone, Debug, Default)]
+pub struct Meter {
+    since: f64,
+    steps: u64,
+    rate: f64,
+}
+
+impl Meter {
+    pub fn count(&mut self, steps: u32, now: f64) {
+        self.steps += u64::from(steps);
+        let elapsed = now - self.since;
+        if elapsed >= 1.0 {
+            self.rate = self.steps as f64 / elapsed;
+            self.steps = 0;
+            self.since = now;
+        } else if elapsed < 0.0 {
+            self.since = now;
+        }
+    }
+
+    pub fn rate(&self) -> f64 {
+        self.rate
+    }
+}
+
+/// What the window sees of the simulation.
+pub struct Frame {
+    pub snapshot: Arc<Snapshot>,
+    pub steps_per_second: f64,
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+pub use threaded::Threaded as Driver;
+
+#[cfg(target_arch = "wasm32")]
+pub use inline::Inline as Driver;
+
+#[cfg(not(target_arch = "wasm32"))]
+mod threaded {
+    use std::path::PathBuf;
+    use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
+    use std::sync::{Arc, Mutex};
+    use std::thread;
+    use std::time::{Duration, Instant};
+
+    use super::{Frame, Meter};
+    use crate::sim::{Command, Sim, Snapshot};
+
+    enum Message {
+        Command(Command),
+        SaveState(PathBuf),
+        Screenshot(PathBuf, u32),
+    }
+
+    struct Shared {
+        snapshot: Arc<Snapshot>,
+        rate: f64,
+        /// Set by the UI when it wants to be told of a new snapshot.
+        repaint: Option<Box<dyn Fn() + Send>>,
+    }
+
+    /// The simulation on a worker thread.
+    pub struct Threaded {
+        tx: Sender<Message>,
+        shared: Arc<Mutex<Shared>>,
+    }
+
+    impl Threaded {
+        pub fn new(sim: Sim) -> Threaded {
+            let (tx, rx) = mpsc::channel();
+            let shared = Arc::new(Mutex::new(Shared {
+                snapshot: Arc::new(sim.snapshot()),
+                rate: 0.0,
+                repaint: None,
+            }));
+            let for_worker = Arc::clone(&shared);
+            thread::Builder::new()
+                .name("supergrain-sim".into())
+                .spawn(move || work(sim, &rx, &for_worker))
+                .expect("a thread can be started");
+            Threaded { tx, shared }
+        }
+
+        /// Calls `f` whenever a new snapshot is ready (the window's request to repaint).
+        pub fn on_snapshot(&self, f: impl Fn() + Send + 'static) {
+            self.lock().repaint = Some(Box::new(f));
+        }
+
+        fn lock(&self) -> std::sync::MutexGuard<'_, Shared> {
+            self.shared.lock().unwrap_or_else(|p| p.into_inner())
+        }
+
+        pub fn send(&mut self, c: Command) {
+            // The worker only stops when this driver is dropped.
+            let _ = self.tx.send(Message::Command(c));
+        }
+
+        pub fn frame(&mut self, _now: f64) -> Frame {
+            let s = self.lock();
+            Frame {
+                snapshot: Arc::clone(&s.snapshot),
+                steps_per_second: s.rate,
+            }
+        }
+
+        /// Writes the state (dump format) to `path`; the outcome shows in the status line.
+        pub fn save_state(&mut self, path: PathBuf) {
+            let _ = self.tx.send(Message::SaveState(path));
+        }
+
+        /// Writes the interval renderer's picture of the state to `path` (PNG).
+        pub fn screenshot(&mut self, path: PathBuf, width: u32) {
+            let _ = self.tx.send(Message::Screenshot(path, width));
+        }
+    }
+
+    fn work(mut sim: Sim, rx: &Receiver<Message>, shared: &Mutex<Shared>) {
+        let start = Instant::now();
+        let mut meter = Meter::default();
+        let period = Duration::from_secs_f64(1.0 / 60.0);
+        loop {
+            let frame_start = Instant::now();
+            // Paused, wait for a command; playing, take what is there and go on.
+            let first = if sim.playing() {
+                rx.try_recv().map_err(|e| match e {
+                    mpsc::TryRecvError::Empty => RecvTimeoutError::Timeout,
+                    mpsc::TryRecvError::Disconnected => RecvTimeoutError::Disconnected,
+                })
+            } else {
+                rx.recv_timeout(Duration::from_millis(100))
+            };
+            let mut messages = Vec::new();
+            match first {
+                Ok(m) => messages.push(m),
+                Err(RecvTimeoutError::Disconnected) => return,
+                Err(RecvTimeoutError::Timeout) => {}
+            }
+            messages.extend(rx.try_iter());
+            let changed = !messages.is_empty();
+            for m in messages {
+                match m {
+                    Message::Command(c) => sim.apply(c),
+                    Message::SaveState(path) => {
+                        let r =
+                            supergrain::io::write_atomically(&path, sim.state_json().as_bytes());
+                        sim.notice(r.map(|()| format!("state saved to {}", path.display())));
+                    }
+                    Message::Screenshot(path, width) => {
+                        let r = sim
+                            .screenshot_png(width)
+                            .and_then(|png| supergrain::io::write_atomically(&path, &png));
+                        sim.notice(r.map(|()| format!("picture saved to {}", path.display())));
+                    }
+                }
+            }
+            let steps = sim.frame();
+            meter.count(steps, start.elapsed().as_secs_f64());
+            if steps > 0 || changed {
+                let snapshot = Arc::new(sim.snapshot());
+                let mut s = shared.lock().unwrap_or_else(|p| p.into_inner());
+                s.snapshot = snapshot;
+                s.rate = meter.rate();
+                if let Some(f) = &s.repaint {
+                    f();
+                }
+            }
+            // At most `speed` steps per sixtieth of a second.
+            if sim.playing()
+                && let Some(rest) = period.checked_sub(frame_start.elapsed())
+            {
+                thread::sleep(rest);
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+mod inline {
+    use std::sync::Arc;
+
+    use super::{Frame, Meter};
+    use crate::sim::{Command, Sim};
+
+    /// The simulation stepped between the page's frames.
+    pub struct Inline {
+        sim: Sim,
+        meter: Meter,
+    }
+
+    impl Inline {
+        pub fn new(sim: Sim) -> Inline {
+            Inline {
+                sim,
+                meter: Meter::default(),
+            }
+        }
+
+        pub fn on_snapshot(&self, _f: impl Fn() + Send + 'static) {}
+
+        pub fn send(&mut self, c: Command) {
+            self.sim.apply(c);
+        }
+
+        pub fn frame(&mut self, now: f64) -> Frame {
+            let steps = self.sim.frame();
+            self.meter.count(steps, now);
+            Frame {
+                snapshot: Arc::new(self.sim.snapshot()),
+                steps_per_second: self.meter.rate(),
+            }
+        }
+    }
+}

@@ -1,0 +1,513 @@
+//! The viewer's simulation, apart from any window: a scene, its world, the controls that act
+//! on it ([`Command`]) and what a frame draws of it ([`Snapshot`]). Everything here runs and is
+//! tested without a display; the window only sends commands and draws snapshots.
+
+use supergrain::contact::{Penetration, WallPenetration};
+use supergrain::geometry::Vec2;
+use supergrain::io::Dump;
+use supergrain::render::{Colouring, Style, render_world};
+use supergrain::shape::{Pose, Superellipse};
+use supergrain::solver::{Body, Settings, grain_contact};
+use supergrain::subdivision::Precision;
+use supergrain::world::{PRESETS, Scene, Touch, World};
+
+/// Where the scene came from, shown in the title and used by reset.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Source {
+    Preset(String),
+    /// A scene file: its name and its text.
+    File {
+        name: String,
+        text: String,
+    },
+}
+
+impl Source {
+    pub fn label(&self) -> String {
+        match self {
+            Source::Preset(name) => format!("preset {name}"),
+            Source::File { name, .. } => name.clone(),
+        }
+    }
+}
+
+/// The solver settings a user can change from the window, applied at once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tuning {
+    pub step: f64,
+    pub damping: f64,
+    pub iterations: u32,
+    pub depth: u32,
+    pub eps: f64,
+}
+
+impl Tuning {
+    pub fn of(s: &Settings) -> Tuning {
+        Tuning {
+            step: s.step,
+            damping: s.damping,
+            iterations: s.max_iterations,
+            depth: s.precision.depth(),
+            eps: s.precision.eps(),
+        }
+    }
+}
+
+/// The spawn rule a user can change; it applies from the next reset, since the queue of grains
+/// is drawn when a world is made.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spawn {
+    /// Steps between two grains.
+    pub interval: u32,
+    /// Height at which grains appear.
+    pub top: f64,
+}
+
+/// The shape dropped by a click.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DropShape {
+    pub semi_axes: [f64; 2],
+    pub exponents: [f64; 2],
+    pub angle: f64,
+}
+
+impl Default for DropShape {
+    fn default() -> Self {
+        DropShape {
+            semi_axes: [0.4, 0.25],
+            exponents: [4.0, 4.0],
+            angle: 0.3,
+        }
+    }
+}
+
+/// What the overlays show (each computed only when on).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Overlays {
+    /// Every grain's bounding box.
+    pub boxes: bool,
+    /// The quadtree cells of every current grain-grain contact.
+    pub cells: bool,
+    /// Deepest points and penetration vectors.
+    pub vectors: bool,
+}
+
+/// Everything the window can ask of the simulation.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    Play,
+    Pause,
+    /// One step, when paused.
+    Step,
+    /// Back to step 0 of the current scene (with the current spawn rule).
+    Reset,
+    /// Steps per frame (at 60 frames per second).
+    Speed(u32),
+    Preset(String),
+    /// A scene file's name and text.
+    Open {
+        name: String,
+        text: String,
+    },
+    Tune(Tuning),
+    Spawn(Spawn),
+    Overlays(Overlays),
+    DropShape(DropShape),
+    /// Drop a grain of the chosen shape, at rest, centred here.
+    Drop(Vec2),
+    /// Take hold of the grain under this point.
+    Grab(Vec2),
+    /// Move the held grain (its grabbed point follows).
+    DragTo(Vec2),
+    Release,
+}
+
+/// A grain as drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grain {
+    pub shape: Superellipse,
+    pub pose: Pose,
+    pub group: u32,
+    pub asleep: bool,
+}
+
+/// A quadtree cell of a contact, in the plane (its corners), and whether it is a final
+/// boundary cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cell {
+    pub corners: [Vec2; 4],
+    pub inside_both: bool,
+    pub last: bool,
+}
+
+/// What one frame draws.
+#[derive(Clone, Debug, Default)]
+pub struct Snapshot {
+    pub label: String,
+    pub grains: Vec<Grain>,
+    pub walls: [f64; 3],
+    pub top: f64,
+    pub step: u64,
+    pub playing: bool,
+    pub speed: u32,
+    pub tuning: Option<Tuning>,
+    pub spawn: Option<Spawn>,
+    pub overlays: Overlays,
+    pub drop_shape: DropShape,
+    pub pending: usize,
+    pub asleep: usize,
+    /// Grain-grain contacts: the pair's penetration.
+    pub contacts: Vec<Penetration>,
+    pub wall_contacts: Vec<WallPenetration>,
+    pub cells: Vec<Cell>,
+    /// The last problem or notice, for the status line.
+    pub message: Option<String>,
+    /// Which grain is held.
+    pub held: Option<usize>,
+}
+
+/// The simulation behind the window.
+pub struct Sim {
+    source: Source,
+    scene: Scene,
+    pub world: World,
+    playing: bool,
+    speed: u32,
+    overlays: Overlays,
+    drop_shape: DropShape,
+    /// The held grain and the grabbed point in its own frame.
+    held: Option<(usize, Vec2)>,
+    message: Option<String>,
+}
+
+/// Upper bounds the sliders and commands keep to, so a slip of the mouse cannot stall the
+/// window for minutes.
+pub const MAX_SPEED: u32 = 200;
+pub const MAX_ITERATIONS: u32 = 50;
+pub const MAX_DEPTH: u32 = 16;
+
+impl Sim {
+    pub fn preset(name: &str) -> Result<Sim, String> {
+        let scene = Scene::preset(name).map_err(|e| e.to_string())?;
+        Ok(Sim::new(Source::Preset(name.to_string()), scene))
+    }
+
+    /// A scene file's text; errors name the file and the line.
+    pub fn open(name: &str, text: &str) -> Result<Sim, String> {
+        let scene = Scene::from_toml(text).map_err(|e| format!("{name}: {e}"))?;
+        Ok(Sim::new(
+            Source::File {
+                name: name.to_string(),
+                text: text.to_string(),
+            },
+            scene,
+        ))
+    }
+
+    fn new(source: Source, scene: Scene) -> Sim {
+        Sim {
+            world: World::new(&scene),
+            source,
+            scene,
+            playing: true,
+            // About real time: two steps of 0.01 per sixtieth of a second.
+            speed: 2,
+            overlays: Overlays::default(),
+            drop_shape: DropShape::default(),
+            held: None,
+            message: None,
+        }
+    }
+
+    pub fn source(&self) -> &Source {
+        &self.source
+    }
+
+    pub fn playing(&self) -> bool {
+        self.playing
+    }
+
+    pub fn speed(&self) -> u32 {
+        self.speed
+    }
+
+    pub fn message(&self) -> Option<&str> {
+        self.message.as_deref()
+    }
+
+    /// Shows the outcome of something done outside the simulation (a file saved).
+    pub fn notice(&mut self, outcome: Result<String, String>) {
+        self.message = Some(outcome.unwrap_or_else(|e| e));
+    }
+
+    /// Carries out one command. A command that cannot be carried out leaves everything as it
+    /// was and says why in [`Sim::message`].
+    pub fn apply(&mut self, command: Command) {
+        if let Err(e) = self.try_apply(command) {
+            self.message = Some(e);
+        }
+    }
+
+    fn try_apply(&mut self, command: Command) -> Result<(), String> {
+        match command {
+            Command::Play => self.playing = true,
+            Command::Pause => self.playing = false,
+            Command::Step => {
+                self.playing = false;
+                self.step();
+            }
+            Command::Reset => self.reset(),
+            Command::Speed(n) => self.speed = n.clamp(1, MAX_SPEED),
+            Command::Preset(name) => {
+                let other = Sim::preset(&name)?;
+                self.replace(other);
+            }
+            Command::Open { name, text } => {
+                let other = Sim::open(&name, &text)?;
+                self.replace(other);
+            }
+            Command::Tune(t) => self.tune(t)?,
+            Command::Spawn(s) => {
+                if s.interval == 0 || !(s.top.is_finite() && s.top > self.scene.walls.floor) {
+                    return Err(format!(
+                        "spawn: interval must be at least 1 and the top above the floor, got {} and {}",
+                        s.interval, s.top
+                    ));
+                }
+                self.scene.spawn_interval = s.interval;
+                self.scene.top = s.top;
+                self.message = Some("spawn rule set: it applies from the next reset".into());
+            }
+            Command::Overlays(o) => self.overlays = o,
+            Command::DropShape(d) => {
+                Superellipse::new(d.semi_axes, d.exponents).map_err(|e| e.to_string())?;
+                self.drop_shape = d;
+            }
+            Command::Drop(at) => self.drop_grain(at)?,
+            Command::Grab(at) => {
+                self.held = self.grain_at(at).map(|i| {
+                    let b = &self.world.bodies[i];
+                    (i, b.pose().to_local(at))
+                });
+            }
+            Command::DragTo(at) => self.drag_to(at),
+            Command::Release => self.held = None,
+        }
+        Ok(())
+    }
+
+    fn replace(&mut self, other: Sim) {
+        let (speed, overlays, drop_shape) = (self.speed, self.overlays, self.drop_shape);
+        *self = other;
+        self.speed = speed;
+        self.overlays = overlays;
+        self.drop_shape = drop_shape;
+    }
+
+    /// Step 0 of the current scene, with the current settings and spawn rule.
+    pub fn reset(&mut self) {
+        self.scene.settings = self.world.settings;
+        self.world = World::new(&self.scene);
+        self.held = None;
+        self.message = None;
+    }
+
+    fn tune(&mut self, t: Tuning) -> Result<(), String> {
+        let ok = t.step.is_finite()
+            && t.step > 0.0
+            && t.step <= 0.1
+            && (0.0..=1.0).contains(&t.damping)
+            && (1..=MAX_ITERATIONS).contains(&t.iterations)
+            && t.depth <= MAX_DEPTH;
+        if !ok {
+            return Err(format!(
+                "settings: step in (0, 0.1], damping in [0, 1], iterations in 1..={MAX_ITERATIONS}, depth at most {MAX_DEPTH}; got {t:?}"
+            ));
+        }
+        let precision = Precision::new(t.depth, t.eps).map_err(|e| e.to_string())?;
+        let s = &mut self.world.settings;
+        s.step = t.step;
+        s.damping = t.damping;
+        s.max_iterations = t.iterations;
+        s.precision = precision;
+        Ok(())
+    }
+
+    /// Steps of the world when playing: `speed` of them. While a grain is held it is kept at
+    /// the mouse, at rest.
+    pub fn frame(&mut self) -> u32 {
+        if !self.playing {
+            return 0;
+        }
+        for _ in 0..self.speed {
+            self.step();
+        }
+        self.speed
+    }
+
+    fn step(&mut self) {
+        let held = self.held.map(|(i, _)| (i, self.world.bodies[i]));
+        self.world.step();
+        // The held grain stays where the hand put it; it still pushes its neighbours.
+        if let Some((i, before)) = held {
+            let b = &mut self.world.bodies[i];
+            b.center = before.center;
+            b.angle = before.angle;
+            b.previous_center = before.center;
+            b.previous_angle = before.angle;
+        }
+    }
+
+    /// The grain whose inside holds `p` (the topmost drawn, i.e. the last).
+    pub fn grain_at(&self, p: Vec2) -> Option<usize> {
+        self.world
+            .bodies
+            .iter()
+            .rposition(|b| b.shape.value(&b.pose(), p) <= 0.0)
+    }
+
+    fn drag_to(&mut self, at: Vec2) {
+        let Some((i, grip)) = self.held else {
+            return;
+        };
+        let w = self.world.walls;
+        let b = &mut self.world.bodies[i];
+        // The grabbed point goes to the mouse; the box's walls still hold the grain.
+        let offset = b.pose().to_world(grip) - b.center;
+        let mut c = at - offset;
+        c.x = c.x.clamp(w.left, w.right);
+        c.y = c.y.max(w.floor);
+        b.center = c;
+        b.previous_center = c;
+        b.previous_angle = b.angle;
+        b.anchor = c;
+        b.calm = 0;
+        b.waiting = 0;
+    }
+
+    fn drop_grain(&mut self, at: Vec2) -> Result<(), String> {
+        let d = self.drop_shape;
+        let shape = Superellipse::new(d.semi_axes, d.exponents).map_err(|e| e.to_string())?;
+        let pose = Pose::new(at, d.angle).map_err(|e| e.to_string())?;
+        let body = Body::at_rest(shape, &pose);
+        let w = self.world.walls;
+        let bb = body.bounding_box();
+        if bb.min.x < w.left || bb.max.x > w.right || bb.min.y < w.floor {
+            return Err(format!(
+                "no room at ({:.2}, {:.2}): the grain would cross a wall",
+                at.x, at.y
+            ));
+        }
+        let settings = self.world.settings;
+        if self.world.bodies.iter().any(|o| {
+            o.bounding_box().intersects(&bb) && grain_contact(&settings, &body, o).overlap()
+        }) {
+            return Err(format!(
+                "no room at ({:.2}, {:.2}): the grain would overlap another",
+                at.x, at.y
+            ));
+        }
+        self.world.bodies.push(body);
+        self.message = None;
+        Ok(())
+    }
+
+    /// What a frame draws of the current state.
+    pub fn snapshot(&self) -> Snapshot {
+        let world = &self.world;
+        let settings = &world.settings;
+        let mut snap = Snapshot {
+            label: self.source.label(),
+            grains: world
+                .bodies
+                .iter()
+                .map(|b| Grain {
+                    shape: b.shape,
+                    pose: b.pose(),
+                    group: b.group,
+                    asleep: b.asleep(settings),
+                })
+                .collect(),
+            walls: [world.walls.left, world.walls.right, world.walls.floor],
+            top: world.top,
+            step: world.step,
+            playing: self.playing,
+            speed: self.speed,
+            tuning: Some(Tuning::of(settings)),
+            spawn: Some(Spawn {
+                interval: self.scene.spawn_interval,
+                top: self.scene.top,
+            }),
+            overlays: self.overlays,
+            drop_shape: self.drop_shape,
+            pending: world.pending.len(),
+            asleep: world.asleep(),
+            message: self.message.clone(),
+            held: self.held.map(|(i, _)| i),
+            ..Snapshot::default()
+        };
+        if self.overlays.vectors || self.overlays.cells {
+            world.contacts(|t| match t {
+                Touch::Grains(i, j, p) => {
+                    snap.contacts.push(p);
+                    if self.overlays.cells {
+                        cells_of(world, i, j, &mut snap.cells);
+                    }
+                }
+                Touch::Wall(_, p) => snap.wall_contacts.push(p),
+            });
+        }
+        snap
+    }
+
+    /// The current state in the dump format (`supergrain run --resume` and `render` read it).
+    pub fn state_json(&self) -> String {
+        serde_json::to_string_pretty(&Dump::of(&self.world)).expect("a dump serialises")
+    }
+
+    /// The current state drawn by the library's interval renderer, as PNG bytes.
+    pub fn screenshot_png(&self, width: u32) -> Result<Vec<u8>, String> {
+        let style = Style {
+            width,
+            colouring: Colouring::Exponent,
+            boxes: self.overlays.boxes,
+            contacts: self.overlays.vectors,
+            ..Style::default()
+        };
+        let pixmap = render_world(&self.world, &style);
+        let mut out = Vec::new();
+        supergrain::io::write_png(&pixmap, &mut out).map_err(|e| e.to_string())?;
+        Ok(out)
+    }
+}
+
+/// The quadtree cells of the test between grains `i` and `j`, in the plane.
+fn cells_of(world: &World, i: usize, j: usize, out: &mut Vec<Cell>) {
+    use supergrain::subdivision::Class;
+    let (a, b) = (&world.bodies[i], &world.bodies[j]);
+    let mut cells = Vec::new();
+    let (pa, pb) = (a.pose(), b.pose());
+    supergrain::contact::contact_with_cells(
+        &a.shape,
+        &pa,
+        &b.shape,
+        &pb,
+        &world.settings.precision,
+        &mut cells,
+    );
+    out.extend(
+        cells
+            .iter()
+            .filter(|(_, ca, cb, _)| *ca != Class::Outside && *cb != Class::Outside)
+            .map(|(cell, ca, cb, last)| Cell {
+                corners: cell.corners().map(|p| pa.to_world(p)),
+                inside_both: *ca == Class::Inside && *cb == Class::Inside,
+                last: *last,
+            }),
+    );
+}
+
+/// The names a preset menu offers.
+pub fn presets() -> &'static [&'static str] {
+    &PRESETS
+}
