@@ -86,9 +86,12 @@ pub struct App {
     fps: Meter,
     started: Option<f64>,
     last_log: f64,
-    /// Widget values that are only sent on a press.
+    /// Widget values that are only sent on a press (file paths: native only).
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     open_path: String,
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     save_path: String,
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     shot_path: String,
     last_label: String,
 }

@@ -1,0 +1,407 @@
+//! The viewer's logic without a window: the controls as commands, checked against the library
+//! driven directly, brute force, and closed forms.
+
+use supergrain::contact::contact;
+use supergrain::geometry::Vec2;
+use supergrain::io::Dump;
+use supergrain::shape::{Pose, Superellipse};
+use supergrain::world::{Scene, World};
+use supergrain_viewer::driver::Meter;
+use supergrain_viewer::explorer::{Explorer, Params};
+use supergrain_viewer::sim::{DropShape, Overlays, Tuning};
+use supergrain_viewer::{Command, Sim};
+
+/// A scene with no grains of its own: only what the tests drop.
+const EMPTY: &str = r#"
+seed = 1
+steps = 100
+[box]
+left = -2.0
+right = 2.0
+floor = 0.0
+top = 6.0
+"#;
+
+fn empty() -> Sim {
+    let mut sim = Sim::open("empty.toml", EMPTY).expect("the empty scene is valid");
+    sim.apply(Command::Pause);
+    sim
+}
+
+#[test]
+fn play_steps_pause_stops_and_step_steps_once() {
+    let mut sim = Sim::preset("mixed").unwrap();
+    assert!(sim.playing());
+    sim.apply(Command::Speed(3));
+    assert_eq!(sim.frame(), 3);
+    assert_eq!(sim.world.step, 3);
+    sim.apply(Command::Pause);
+    assert_eq!(sim.frame(), 0);
+    assert_eq!(sim.world.step, 3);
+    sim.apply(Command::Step);
+    assert_eq!(sim.world.step, 4);
+    assert!(!sim.playing());
+    // Speeds outside the slider's range are clamped, not obeyed.
+    sim.apply(Command::Speed(0));
+    assert_eq!(sim.speed(), 1);
+    sim.apply(Command::Speed(1_000_000));
+    assert_eq!(sim.speed(), supergrain_viewer::sim::MAX_SPEED);
+}
+
+#[test]
+fn the_viewer_runs_the_same_simulation_as_the_library_and_reset_replays_it() {
+    // The reference: the library's world of the same preset, stepped directly.
+    let mut reference = World::new(&Scene::preset("ellipses").unwrap());
+    for _ in 0..300 {
+        reference.step();
+    }
+    let mut sim = Sim::preset("ellipses").unwrap();
+    sim.apply(Command::Speed(10));
+    for _ in 0..30 {
+        sim.frame();
+    }
+    let centres = |w: &World| -> Vec<(u64, u64)> {
+        w.bodies
+            .iter()
+            .map(|b| (b.center.x.to_bits(), b.center.y.to_bits()))
+            .collect()
+    };
+    assert!(!reference.bodies.is_empty());
+    assert_eq!(centres(&sim.world), centres(&reference));
+    sim.apply(Command::Reset);
+    assert_eq!(sim.world.step, 0);
+    assert!(sim.world.bodies.is_empty());
+    for _ in 0..30 {
+        sim.frame();
+    }
+    assert_eq!(
+        centres(&sim.world),
+        centres(&reference),
+        "reset replays bit for bit"
+    );
+}
+
+#[test]
+fn a_dropped_grain_appears_where_clicked_and_falls_to_rest_on_the_floor() {
+    let mut sim = empty();
+    let d = DropShape {
+        semi_axes: [0.3, 0.2],
+        exponents: [2.0, 2.0],
+        angle: 0.0,
+    };
+    sim.apply(Command::DropShape(d));
+    sim.apply(Command::Drop(Vec2::new(0.5, 3.0)));
+    assert_eq!(sim.world.bodies.len(), 1);
+    let b = sim.world.bodies[0];
+    assert_eq!((b.center.x, b.center.y), (0.5, 3.0));
+    assert_eq!(b.shape.semi_axes(), Vec2::new(0.3, 0.2));
+
+    // On top of it, or across a wall: refused, with a reason, nothing added.
+    sim.apply(Command::Drop(Vec2::new(0.6, 3.1)));
+    assert!(
+        sim.message().unwrap().contains("overlap"),
+        "{:?}",
+        sim.message()
+    );
+    sim.apply(Command::Drop(Vec2::new(1.9, 3.0)));
+    assert!(
+        sim.message().unwrap().contains("wall"),
+        "{:?}",
+        sim.message()
+    );
+    assert_eq!(sim.world.bodies.len(), 1);
+
+    // Falling from rest, it lands flat: an ellipse at angle 0 rests with its centre one
+    // semi-axis (0.2) above the floor.
+    sim.apply(Command::Play);
+    sim.apply(Command::Speed(50));
+    for _ in 0..20 {
+        sim.frame();
+    }
+    let b = sim.world.bodies[0];
+    assert!(
+        (b.center.y - 0.2).abs() < 0.01,
+        "rests at y = {}",
+        b.center.y
+    );
+    assert!(
+        (b.center.x - 0.5).abs() < 0.01 && b.angle.abs() < 0.05,
+        "{b:?}"
+    );
+}
+
+#[test]
+fn a_dragged_grain_follows_the_point_it_was_grabbed_by() {
+    let mut sim = empty();
+    sim.apply(Command::DropShape(DropShape {
+        semi_axes: [0.4, 0.25],
+        exponents: [4.0, 4.0],
+        angle: 0.0,
+    }));
+    sim.apply(Command::Drop(Vec2::new(0.0, 3.0)));
+    // Outside every grain: nothing is held, and dragging moves nothing.
+    sim.apply(Command::Grab(Vec2::new(1.0, 1.0)));
+    sim.apply(Command::DragTo(Vec2::new(1.5, 1.5)));
+    assert_eq!(sim.world.bodies[0].center, Vec2::new(0.0, 3.0));
+    // Grabbed 0.1 right of and 0.05 above the centre, the grain's centre stays that far from
+    // the mouse.
+    sim.apply(Command::Grab(Vec2::new(0.1, 3.05)));
+    assert_eq!(sim.snapshot().held, Some(0));
+    sim.apply(Command::DragTo(Vec2::new(1.0, 5.0)));
+    let c = sim.world.bodies[0].center;
+    assert!(
+        (c.x - 0.9).abs() < 1e-12 && (c.y - 4.95).abs() < 1e-12,
+        "{c:?}"
+    );
+    // Held, it stays put while time runs; released, it falls.
+    sim.apply(Command::Play);
+    for _ in 0..10 {
+        sim.frame();
+    }
+    let held = sim.world.bodies[0].center;
+    assert!((held.y - 4.95).abs() < 1e-12, "{held:?}");
+    sim.apply(Command::Release);
+    for _ in 0..10 {
+        sim.frame();
+    }
+    assert!(sim.world.bodies[0].center.y < 4.9);
+}
+
+#[test]
+fn a_bad_scene_keeps_the_current_one_and_names_the_line() {
+    let mut sim = Sim::preset("circles").unwrap();
+    sim.frame();
+    let before = sim.world.step;
+    sim.apply(Command::Open {
+        name: "broken.toml".into(),
+        text: "seed = 1\n[box]\nleft = \"wide\"\n".into(),
+    });
+    let msg = sim.message().unwrap().to_string();
+    assert!(
+        msg.contains("broken.toml") && msg.contains("line 3"),
+        "{msg}"
+    );
+    assert_eq!(sim.source().label(), "preset circles");
+    assert_eq!(sim.world.step, before);
+    // An unknown preset, likewise.
+    sim.apply(Command::Preset("sand".into()));
+    assert!(sim.message().unwrap().contains("unknown preset"));
+    assert_eq!(sim.source().label(), "preset circles");
+    // A good one replaces it, keeping the speed.
+    sim.apply(Command::Speed(7));
+    sim.apply(Command::Preset("squircles".into()));
+    assert_eq!(sim.source().label(), "preset squircles");
+    assert_eq!((sim.world.step, sim.speed()), (0, 7));
+}
+
+#[test]
+fn solver_sliders_apply_at_once_and_nonsense_is_refused() {
+    let mut sim = Sim::preset("mixed").unwrap();
+    let t = Tuning {
+        step: 0.005,
+        damping: 0.4,
+        iterations: 4,
+        depth: 9,
+        eps: 0.001,
+    };
+    sim.apply(Command::Tune(t));
+    assert_eq!(Tuning::of(&sim.world.settings), t);
+    for bad in [
+        Tuning { iterations: 0, ..t },
+        Tuning { damping: 1.5, ..t },
+        Tuning {
+            step: f64::NAN,
+            ..t
+        },
+        Tuning { eps: -1.0, ..t },
+        Tuning { depth: 99, ..t },
+    ] {
+        sim.apply(Command::Tune(bad));
+        assert_eq!(Tuning::of(&sim.world.settings), t, "{bad:?} was applied");
+        assert!(sim.message().is_some());
+    }
+    // Settings survive a reset.
+    sim.apply(Command::Reset);
+    assert_eq!(Tuning::of(&sim.world.settings), t);
+}
+
+#[test]
+fn the_spawn_rule_applies_from_the_next_reset() {
+    let mut sim = Sim::preset("circles").unwrap();
+    sim.apply(Command::Spawn(supergrain_viewer::sim::Spawn {
+        interval: 5,
+        top: 8.0,
+    }));
+    assert!(sim.message().unwrap().contains("next reset"));
+    sim.apply(Command::Reset);
+    sim.apply(Command::Speed(1));
+    // Grains now appear every 5 steps at height 8: two of them after 6 steps.
+    for _ in 0..6 {
+        sim.frame();
+    }
+    assert_eq!(sim.world.bodies.len(), 2);
+    assert!(
+        sim.world
+            .bodies
+            .iter()
+            .all(|b| b.center.y <= 8.0 && b.center.y > 7.5)
+    );
+}
+
+#[test]
+fn the_overlays_show_every_overlapping_pair_found_by_brute_force() {
+    // Two rows of grains pressed into each other and into the floor.
+    let mut sim = empty();
+    let shapes = [
+        Superellipse::new([0.3, 0.2], [4.0, 4.0]).unwrap(),
+        Superellipse::new([0.28, 0.18], [0.7, 1.5]).unwrap(),
+        Superellipse::new([0.25, 0.25], [2.0, 2.0]).unwrap(),
+    ];
+    for k in 0..14 {
+        let (row, col) = (k / 7, k % 7);
+        let centre = Vec2::new(-1.5 + 0.5 * f64::from(col), 0.15 + 0.33 * f64::from(row));
+        let pose = Pose::new(centre, 0.37 * f64::from(k)).unwrap();
+        sim.world.bodies.push(supergrain::solver::Body::at_rest(
+            shapes[k as usize % 3],
+            &pose,
+        ));
+    }
+    sim.apply(Command::Overlays(Overlays {
+        boxes: true,
+        cells: true,
+        vectors: true,
+    }));
+    let snap = sim.snapshot();
+    let bodies = &sim.world.bodies;
+    let precision = sim.world.settings.precision;
+    let mut pairs = 0;
+    for i in 0..bodies.len() {
+        for j in i + 1..bodies.len() {
+            let (a, b) = (&bodies[i], &bodies[j]);
+            if contact(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision).overlap() {
+                pairs += 1;
+            }
+        }
+    }
+    assert!(pairs >= 5, "the rows overlap: {pairs} pairs");
+    assert_eq!(snap.contacts.len(), pairs);
+    // The bottom row reaches below the floor.
+    assert!(!snap.wall_contacts.is_empty());
+    assert!(!snap.cells.is_empty());
+    // Off, nothing is computed.
+    sim.apply(Command::Overlays(Overlays::default()));
+    let snap = sim.snapshot();
+    assert!(snap.contacts.is_empty() && snap.cells.is_empty());
+}
+
+#[test]
+fn saved_state_and_picture_are_a_dump_and_a_png_of_the_world() {
+    let mut sim = Sim::preset("squircles").unwrap();
+    sim.apply(Command::Speed(20));
+    for _ in 0..30 {
+        sim.frame();
+    }
+    let dump: Dump = serde_json::from_str(&sim.state_json()).expect("a dump");
+    let world = dump.to_world().expect("a valid dump");
+    assert_eq!(world.step, sim.world.step);
+    assert_eq!(world.bodies.len(), sim.world.bodies.len());
+    for (a, b) in world.bodies.iter().zip(&sim.world.bodies) {
+        assert_eq!(a.center, b.center);
+    }
+    let png = sim.screenshot_png(300).unwrap();
+    let img = image::load_from_memory(&png).expect("a PNG").to_rgba8();
+    assert_eq!(img.width(), 300);
+    // The pixel under a grain's centre is painted, not the background.
+    let b = &sim.world.bodies[0];
+    let region = supergrain::render::world_region(&sim.world);
+    let view = supergrain::render::raster::View::fit(region, 300);
+    let (px, py) = view.to_pixel(b.center);
+    let p = img.get_pixel(px as u32, py as u32);
+    assert_ne!(p.0, [250, 250, 250, 255], "background under a grain");
+}
+
+#[test]
+fn the_files_are_written_whole_or_not_at_all() {
+    let dir = std::env::temp_dir().join(format!("sg-viewer-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("state.json");
+    supergrain::io::write_atomically(&target, b"{}").unwrap();
+    assert_eq!(std::fs::read(&target).unwrap(), b"{}");
+    // A folder that does not exist: an error naming the path, nothing left behind.
+    let bad = dir.join("missing").join("state.json");
+    let e = supergrain::io::write_atomically(&bad, b"{}").unwrap_err();
+    assert!(e.contains("missing"), "{e}");
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("state.json")]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_explorer_matches_two_circles_closed_form() {
+    // Two unit-radius... circles of radius 0.5 at distance d overlap by 1 - d.
+    let circle = Params {
+        semi_axes: [0.5, 0.5],
+        exponents: [2.0, 2.0],
+        angle: 0.0,
+    };
+    for d in [0.6, 0.8, 0.95] {
+        let e = Explorer {
+            a: circle,
+            b: circle,
+            b_center: Vec2::new(d * 0.6, d * 0.8),
+            depth: 10,
+            eps: 0.0,
+        };
+        let eval = e.evaluate().unwrap();
+        let p = eval.contact.penetration.expect("overlap");
+        let depth = p.a_push.norm().max(p.b_push.norm());
+        assert!((depth - (1.0 - d)).abs() < 0.01, "d {d}: depth {depth}");
+        assert!(!eval.cells.is_empty());
+    }
+    let apart = Explorer {
+        a: circle,
+        b: circle,
+        b_center: Vec2::new(1.05, 0.0),
+        depth: 10,
+        eps: 0.0,
+    };
+    assert!(apart.evaluate().unwrap().contact.penetration.is_none());
+    // A shape the library refuses is reported, not drawn.
+    let bad = Explorer {
+        a: Params {
+            exponents: [0.0, 2.0],
+            ..circle
+        },
+        ..apart
+    };
+    assert!(bad.evaluate().is_err());
+}
+
+#[test]
+fn the_meter_counts_steps_per_second() {
+    let mut m = Meter::default();
+    for k in 0..=120 {
+        m.count(2, f64::from(k) / 60.0);
+    }
+    assert!((m.rate() - 120.0).abs() < 3.0, "{}", m.rate());
+}
+
+#[test]
+fn grains_under_the_mouse_are_found_by_their_inside() {
+    let mut sim = empty();
+    sim.apply(Command::DropShape(DropShape {
+        semi_axes: [0.5, 0.1],
+        exponents: [2.0, 2.0],
+        angle: std::f64::consts::FRAC_PI_2,
+    }));
+    sim.apply(Command::Drop(Vec2::new(0.0, 2.0)));
+    // Turned upright: 0.4 above the centre is inside, 0.4 to the side is not.
+    assert_eq!(sim.grain_at(Vec2::new(0.0, 2.4)), Some(0));
+    assert_eq!(sim.grain_at(Vec2::new(0.4, 2.0)), None);
+    let shape = Superellipse::new([0.5, 0.1], [2.0, 2.0]).unwrap();
+    let pose = Pose::new(Vec2::new(0.0, 2.0), std::f64::consts::FRAC_PI_2).unwrap();
+    assert!(shape.value(&pose, Vec2::new(0.0, 2.4)) < 0.0);
+}
