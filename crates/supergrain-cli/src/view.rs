@@ -18,6 +18,9 @@ pub struct Args {
     /// Start paused.
     #[arg(long)]
     pub paused: bool,
+    /// Steps per frame (60 frames per second) to start with; the window's slider changes it.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=200))]
+    pub speed: Option<u32>,
     /// Print the frame rate and steps per second once a second (for measuring).
     #[arg(long)]
     pub log_fps: bool,
@@ -44,6 +47,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         log_fps: args.log_fps,
         quit_after: args.quit_after,
         paused: args.paused,
+        speed: args.speed,
     };
     supergrain_viewer::run_native(sim, launch)?;
     Ok(ExitCode::SUCCESS)

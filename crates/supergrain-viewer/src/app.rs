@@ -24,6 +24,16 @@ pub struct Launch {
     pub quit_after: Option<f64>,
     /// Start paused.
     pub paused: bool,
+    /// Steps per frame to start with (the speed slider).
+    pub speed: Option<u32>,
+}
+
+/// A line for whoever watches the output: standard output natively, the console in a browser.
+fn log_line(line: &str) {
+    #[cfg(not(target_arch = "wasm32"))]
+    println!("{line}");
+    #[cfg(target_arch = "wasm32")]
+    web_sys::console::log_1(&line.into());
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,6 +111,9 @@ impl App {
         let mut driver = Driver::new(sim);
         if launch.paused {
             driver.send(Command::Pause);
+        }
+        if let Some(n) = launch.speed {
+            driver.send(Command::Speed(n));
         }
         App {
             driver,
@@ -581,13 +594,13 @@ impl eframe::App for App {
 
         if self.launch.log_fps && now - self.last_log >= 1.0 {
             self.last_log = now;
-            println!(
+            log_line(&format!(
                 "fps {:.1} steps/s {:.1} step {} grains {}",
                 self.fps.rate(),
                 frame.steps_per_second,
                 snap.step,
                 snap.grains.len()
-            );
+            ));
         }
         if let Some(t) = self.launch.quit_after
             && now - started >= t

@@ -124,7 +124,21 @@ mod threaded {
         }
     }
 
+    /// The window comes first: on a machine with few cores the drawing (software OpenGL,
+    /// where there is no GPU) and the simulation compete, and a smooth window over a slower
+    /// simulation is the better trade. Where cores are free this changes nothing.
+    fn yield_to_the_window() {
+        #[cfg(target_os = "linux")]
+        // SAFETY: `gettid` has no preconditions; `setpriority` on this thread's own id only
+        // lowers its priority and reports failure by its return value, which we may ignore.
+        unsafe {
+            let tid = libc::gettid();
+            libc::setpriority(libc::PRIO_PROCESS, tid as libc::id_t, 10);
+        }
+    }
+
     fn work(mut sim: Sim, rx: &Receiver<Message>, shared: &Mutex<Shared>) {
+        yield_to_the_window();
         let start = Instant::now();
         let mut meter = Meter::default();
         let period = Duration::from_secs_f64(1.0 / 60.0);

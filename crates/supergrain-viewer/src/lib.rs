@@ -70,16 +70,29 @@ pub fn start() {
             .get_element_by_id("supergrain-canvas")
             .and_then(|c| c.dyn_into::<web_sys::HtmlCanvasElement>().ok())
             .expect("the page has a canvas with id supergrain-canvas");
-        let sim = Sim::preset("mixed").expect("the mixed preset exists");
+        // The page's query string: `?preset=circles&speed=200&log-fps`.
+        let query = web_sys::window()
+            .and_then(|w| w.location().search().ok())
+            .unwrap_or_default();
+        let param = |key: &str| {
+            query.trim_start_matches('?').split('&').find_map(|kv| {
+                let (k, v) = kv.split_once('=').unwrap_or((kv, ""));
+                (k == key).then(|| v.to_string())
+            })
+        };
+        let sim = param("preset")
+            .and_then(|name| Sim::preset(&name).ok())
+            .unwrap_or_else(|| Sim::preset("mixed").expect("the mixed preset exists"));
+        let launch = Launch {
+            log_fps: param("log-fps").is_some(),
+            speed: param("speed").and_then(|v| v.parse().ok()),
+            ..Launch::default()
+        };
         let result = eframe::WebRunner::new()
             .start(
                 canvas,
                 eframe::WebOptions::default(),
-                Box::new(move |cc| {
-                    Ok(Box::new(
-                        App::new(sim, Launch::default()).attach(&cc.egui_ctx),
-                    ))
-                }),
+                Box::new(move |cc| Ok(Box::new(App::new(sim, launch).attach(&cc.egui_ctx)))),
             )
             .await;
         if let Err(e) = result {

@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Starts the native viewer under Xvfb and the web viewer in headless Chromium, takes a
+# screenshot of each, checks that neither is blank, and measures the frame rate.
+#
+#   scripts/screenshots.sh [OUT_DIR]      (default: docs)
+#
+# Writes OUT_DIR/viewer-native.png, OUT_DIR/viewer-web.png, OUT_DIR/viewer-explorer.png is not
+# possible from outside the window, so the explorer is shown by the native run's second shot.
+# Needs (installed here if missing, as root): xvfb, imagemagick, chromium, Mesa's software
+# OpenGL. Prints the measured frame rates; they are also written to OUT_DIR/bench/viewer.txt.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+out=${1:-docs}
+mkdir -p "$out/bench"
+
+need=()
+command -v Xvfb >/dev/null || need+=(xvfb)
+command -v import >/dev/null || need+=(imagemagick)
+command -v chromium >/dev/null || need+=(chromium)
+[ -e /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so ] || need+=(libgl1-mesa-dri libegl1 libgl1)
+if [ ${#need[@]} -gt 0 ]; then
+  echo "installing ${need[*]}" >&2
+  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
+fi
+
+cargo build --release -p supergrain-cli
+sg=target/release/supergrain
+
+# A free display number.
+d=90
+while [ -e "/tmp/.X11-unix/X$d" ] || [ -e "/tmp/.X$d-lock" ]; do d=$((d + 1)); done
+Xvfb ":$d" -screen 0 1280x800x24 -nolisten tcp >/dev/null 2>&1 &
+xvfb=$!
+server=""
+cleanup() {
+  kill "$xvfb" 2>/dev/null || true
+  [ -n "$server" ] && kill "$server" 2>/dev/null || true
+}
+trap cleanup EXIT
+sleep 1
+export DISPLAY=":$d"
+
+# Not blank: the picture's grey levels spread (a blank or one-colour window has none).
+not_blank() {
+  local spread
+  spread=$(convert "$1" -colorspace gray -format "%[fx:standard_deviation]" info:)
+  awk -v s="$spread" -v f="$1" 'BEGIN { if (s < 0.05) { print f " looks blank (spread " s ")"; exit 1 } print f ": spread " s }'
+}
+
+# 1. The native viewer on the mixed preset: a screenshot after 8 s.
+"$sg" view --preset mixed --speed 4 --quit-after 10 >/dev/null &
+viewer=$!
+sleep 8
+import -window root "$out/viewer-native.png"
+wait "$viewer"
+not_blank "$out/viewer-native.png"
+
+# 2. The frame rate on the 1,000-grain example while it pours (the on-screen counter, also
+# printed once a second with --log-fps), over 60 s.
+"$sg" view examples/scenes/pour-1000.toml --log-fps --quit-after 60 > /tmp/supergrain-fps.txt
+import -window root "$out/viewer-pour-1000.png" 2>/dev/null || true
+native_mixed=$("$sg" view --preset mixed --speed 200 --log-fps --quit-after 20 | tail -n 10)
+
+# 3. The web viewer in headless Chromium.
+scripts/build-web.sh
+port=8123
+python3 -m http.server "$port" --directory web --bind 127.0.0.1 >/dev/null 2>&1 &
+server=$!
+sleep 1
+chrome=(chromium --headless --no-sandbox --no-first-run --disable-background-networking
+  --disable-component-update --disable-sync --disable-quic --use-angle=swiftshader
+  --enable-unsafe-swiftshader --user-data-dir="$(mktemp -d)" --window-size=1280,800)
+"${chrome[@]}" --virtual-time-budget=8000 --screenshot="$out/viewer-web.png" \
+  "http://127.0.0.1:$port/index.html?speed=4" 2>/dev/null
+not_blank "$out/viewer-web.png"
+# The browser's speed on the mixed preset: console lines over 20 s.
+timeout 25 "${chrome[@]}" --enable-logging=stderr --v=0 \
+  "http://127.0.0.1:$port/index.html?speed=200&log-fps" 2> /tmp/supergrain-web.txt || true
+web_mixed=$(grep -o 'fps [0-9.]* steps/s [0-9.]* step [0-9]* grains [0-9]*' /tmp/supergrain-web.txt | tail -n 10)
+
+{
+  echo "supergrain view under Xvfb (software OpenGL), 1280x800, $(nproc) cores, $(date -u +%F)"
+  echo
+  echo "1,000-grain pour (examples/scenes/pour-1000.toml), once a second over 60 s:"
+  cat /tmp/supergrain-fps.txt
+  echo
+  echo "mixed preset at 200 steps/frame, native, last 10 s:"
+  echo "$native_mixed"
+  echo
+  echo "mixed preset at 200 steps/frame, headless Chromium (SwiftShader WebGL), last 10 s:"
+  echo "$web_mixed"
+} | tee "$out/bench/viewer.txt"
