@@ -8,6 +8,7 @@
 mod app;
 pub mod driver;
 pub mod explorer;
+mod picture;
 pub mod sim;
 
 pub use app::{App, Launch};
@@ -86,6 +87,7 @@ pub fn start() {
         let launch = Launch {
             log_fps: param("log-fps").is_some(),
             speed: param("speed").and_then(|v| v.parse().ok()),
+            explorer: param("explorer").is_some(),
             ..Launch::default()
         };
         let result = eframe::WebRunner::new()

@@ -20,13 +20,18 @@ pub enum Source {
         name: String,
         text: String,
     },
+    /// A state written by `supergrain run --dump` or the viewer's Save: its name and its text.
+    State {
+        name: String,
+        text: String,
+    },
 }
 
 impl Source {
     pub fn label(&self) -> String {
         match self {
             Source::Preset(name) => format!("preset {name}"),
-            Source::File { name, .. } => name.clone(),
+            Source::File { name, .. } | Source::State { name, .. } => name.clone(),
         }
     }
 }
@@ -204,6 +209,27 @@ impl Sim {
         ))
     }
 
+    /// A dump (`supergrain run --dump`, or Save in the viewer); reset returns to it. Errors
+    /// name the file.
+    pub fn state(name: &str, text: &str) -> Result<Sim, String> {
+        let world = world_of_dump(text).map_err(|e| format!("{name}: {e}"))?;
+        // The scene behind a dump is not kept in it; the spawn sliders start from its top.
+        let mut scene = Scene::preset("mixed").expect("the mixed preset exists");
+        scene.groups.clear();
+        scene.walls = world.walls;
+        scene.top = world.top;
+        scene.settings = world.settings;
+        let mut sim = Sim::new(
+            Source::State {
+                name: name.to_string(),
+                text: text.to_string(),
+            },
+            scene,
+        );
+        sim.world = world;
+        Ok(sim)
+    }
+
     fn new(source: Source, scene: Scene) -> Sim {
         Sim {
             world: World::new(&scene),
@@ -308,6 +334,12 @@ impl Sim {
     pub fn reset(&mut self) {
         self.scene.settings = self.world.settings;
         self.world = World::new(&self.scene);
+        if let Source::State { text, .. } = &self.source
+            && let Ok(mut world) = world_of_dump(text)
+        {
+            world.settings = self.scene.settings;
+            self.world = world;
+        }
         self.held = None;
         self.message = None;
     }
@@ -479,6 +511,13 @@ impl Sim {
         supergrain::io::write_png(&pixmap, &mut out).map_err(|e| e.to_string())?;
         Ok(out)
     }
+}
+
+/// The world a dump's text describes.
+fn world_of_dump(text: &str) -> Result<World, String> {
+    let dump: Dump = serde_json::from_str(text)
+        .map_err(|e| format!("not a supergrain state (JSON dump): {e}"))?;
+    dump.to_world().map_err(|e| e.to_string())
 }
 
 /// The quadtree cells of the test between grains `i` and `j`, in the plane.
