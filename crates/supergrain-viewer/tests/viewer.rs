@@ -405,3 +405,28 @@ fn grains_under_the_mouse_are_found_by_their_inside() {
     let pose = Pose::new(Vec2::new(0.0, 2.0), std::f64::consts::FRAC_PI_2).unwrap();
     assert!(shape.value(&pose, Vec2::new(0.0, 2.4)) < 0.0);
 }
+
+#[test]
+fn a_saved_state_opens_and_reset_returns_to_it() {
+    let mut sim = Sim::preset("circles").unwrap();
+    sim.apply(Command::Speed(20));
+    for _ in 0..40 {
+        sim.frame();
+    }
+    let text = sim.state_json();
+    let saved: Vec<Vec2> = sim.world.bodies.iter().map(|b| b.center).collect();
+    let mut opened = Sim::state("heap.json", &text).unwrap();
+    assert_eq!(opened.source().label(), "heap.json");
+    let centres = |s: &Sim| s.world.bodies.iter().map(|b| b.center).collect::<Vec<_>>();
+    assert_eq!(centres(&opened), saved);
+    // It goes on from there exactly as the original does.
+    sim.frame();
+    opened.apply(Command::Speed(20));
+    opened.frame();
+    assert_eq!(centres(&opened), centres(&sim));
+    opened.apply(Command::Reset);
+    assert_eq!(centres(&opened), saved);
+    // Not a dump: the error names the file.
+    let e = Sim::state("notes.json", "{\"grains\": 3}").err().unwrap();
+    assert!(e.starts_with("notes.json: not a supergrain state"), "{e}");
+}
