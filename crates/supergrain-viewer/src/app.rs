@@ -649,11 +649,12 @@ impl eframe::App for App {
         if self.launch.log_fps && now - self.last_log >= 1.0 {
             self.last_log = now;
             log_line(&format!(
-                "fps {:.1} steps/s {:.1} step {} grains {}",
+                "fps {:.1} steps/s {:.1} step {} grains {} t {:.1}",
                 self.fps.rate(),
                 frame.steps_per_second,
                 snap.step,
-                snap.grains.len()
+                snap.grains.len(),
+                now - started
             ));
         }
         if let Some(t) = self.launch.quit_after

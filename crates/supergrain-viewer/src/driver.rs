@@ -226,7 +226,18 @@ mod inline {
         }
 
         pub fn frame(&mut self, now: f64) -> Frame {
-            let steps = self.sim.frame();
+            // Up to `speed` steps, but no more than about 12 ms of them, so the page keeps
+            // drawing while a costly scene steps.
+            let clock = web_sys::window().and_then(|w| w.performance());
+            let ms = || clock.as_ref().map_or(0.0, |c| c.now());
+            let start = ms();
+            let mut steps = 0;
+            if self.sim.playing() {
+                while steps < self.sim.speed() && (steps == 0 || ms() - start < 12.0) {
+                    self.sim.step_once();
+                    steps += 1;
+                }
+            }
             self.meter.count(steps, now);
             Frame {
                 snapshot: Arc::new(self.sim.snapshot()),

@@ -377,6 +377,11 @@ impl Sim {
         self.speed
     }
 
+    /// One step, whether playing or not (the browser's frame loop counts its own).
+    pub fn step_once(&mut self) {
+        self.step();
+    }
+
     fn step(&mut self) {
         let held = self.held.map(|(i, _)| (i, self.world.bodies[i]));
         self.world.step();
