@@ -11,7 +11,7 @@ mod implicit;
 mod pow;
 
 pub use implicit::{ImplicitShape, Minima, PlacedSuperellipse};
-pub use pow::{EXP_TAIL, Exponent, LOG_TAIL, R_MAX, T_MAX, pow_down, pow_up, pow_with_bound};
+pub use pow::{Exponent, pow_down, pow_up};
 
 /// A number no smaller than `x + ulp(x)` (and so than the exact result `x` was rounded from):
 /// `x + (|x| 2^-52 + MIN_POSITIVE)`. Branch-free, unlike `next_up`, which matters in the hot
