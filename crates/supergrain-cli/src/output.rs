@@ -32,13 +32,8 @@ impl Output {
                         target.display()
                     );
                 }
-                let name = target
-                    .file_name()
+                let temp = supergrain::io::temp_beside(target)
                     .with_context(|| format!("output path {} names no file", target.display()))?;
-                let mut temp_name = std::ffi::OsString::from(".");
-                temp_name.push(name);
-                temp_name.push(format!(".{}.tmp", std::process::id()));
-                let temp = target.with_file_name(temp_name);
                 let file = File::create(&temp)
                     .with_context(|| format!("cannot write output file {}", target.display()))?;
                 Sink::File {
