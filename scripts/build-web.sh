@@ -19,9 +19,15 @@ fi
 
 # Without debug info the page loads a third of the bytes.
 CARGO_PROFILE_RELEASE_DEBUG=0 cargo build --release --target wasm32-unknown-unknown -p supergrain-viewer
+target=$(cargo metadata --format-version 1 --no-deps |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["target_directory"])')
+# Bound into a fresh folder, then moved into place: a failure leaves the last page as it was.
+fresh=$(mktemp -d web/.pkg.XXXXXX)
+trap 'rm -rf "$fresh"' EXIT
+wasm-bindgen --target web --no-typescript --out-dir "$fresh" \
+  "$target/wasm32-unknown-unknown/release/supergrain_viewer.wasm"
 rm -rf web/pkg
-wasm-bindgen --target web --no-typescript --out-dir web/pkg \
-  target/wasm32-unknown-unknown/release/supergrain_viewer.wasm
+mv "$fresh" web/pkg
 echo "built web/ ($(du -sh web/pkg | cut -f1) in web/pkg)" >&2
 
 if [ "${1:-}" = "--serve" ]; then

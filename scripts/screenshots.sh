@@ -16,7 +16,7 @@ need=()
 command -v Xvfb >/dev/null || need+=(xvfb)
 command -v import >/dev/null || need+=(imagemagick)
 command -v chromium >/dev/null || need+=(chromium)
-[ -e /usr/lib/x86_64-linux-gnu/dri/swrast_dri.so ] || need+=(libgl1-mesa-dri libegl1 libgl1)
+compgen -G "/usr/lib/*/dri/swrast_dri.so" >/dev/null || need+=(libgl1-mesa-dri libegl1 libgl1)
 if [ ${#need[@]} -gt 0 ]; then
   echo "installing ${need[*]}" >&2
   apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need[@]}" >/dev/null
@@ -31,9 +31,11 @@ while [ -e "/tmp/.X11-unix/X$d" ] || [ -e "/tmp/.X$d-lock" ]; do d=$((d + 1)); d
 Xvfb ":$d" -screen 0 1280x800x24 -nolisten tcp >/dev/null 2>&1 &
 xvfb=$!
 server=""
+work=$(mktemp -d)
 cleanup() {
   kill "$xvfb" 2>/dev/null || true
-  [ -n "$server" ] && kill "$server" 2>/dev/null || true
+  if [ -n "$server" ]; then kill "$server" 2>/dev/null || true; fi
+  rm -rf "$work"
 }
 trap cleanup EXIT
 sleep 1
@@ -64,7 +66,7 @@ not_blank "$out/viewer-explorer.png"
 
 # 2. The frame rate on the 1,000-grain example while it pours (the on-screen counter, also
 # printed once a second with --log-fps), over 60 s.
-"$sg" view examples/scenes/pour-1000.toml --log-fps --quit-after 60 > /tmp/supergrain-fps.txt &
+"$sg" view examples/scenes/pour-1000.toml --log-fps --quit-after 60 > "$work/fps.txt" &
 viewer=$!
 sleep 40
 import -window root "$out/viewer-pour-1000.png"
@@ -81,21 +83,21 @@ server=$!
 sleep 1
 chrome=(chromium --headless --no-sandbox --no-first-run --disable-background-networking
   --disable-component-update --disable-sync --disable-quic --use-angle=swiftshader
-  --enable-unsafe-swiftshader --user-data-dir="$(mktemp -d)" --window-size=1280,800)
-"${chrome[@]}" --virtual-time-budget=8000 --screenshot="$out/viewer-web.png" \
+  --enable-unsafe-swiftshader --user-data-dir="$work/profile" --window-size=1280,800)
+timeout 60 "${chrome[@]}" --virtual-time-budget=8000 --screenshot="$out/viewer-web.png" \
   "http://127.0.0.1:$port/index.html?speed=4" 2>/dev/null
 not_blank "$out/viewer-web.png"
 # The browser's speed on the mixed preset: its console lines over 45 s (page start included).
 timeout 45 "${chrome[@]}" --enable-logging=stderr --v=0 \
-  "http://127.0.0.1:$port/index.html?speed=50&log-fps" 2> /tmp/supergrain-web.txt || true
-web_mixed=$(grep -o 'fps [0-9.]* steps/s [0-9.]* step [0-9]* grains [0-9]* t [0-9.]*' /tmp/supergrain-web.txt | tail -n 1)
+  "http://127.0.0.1:$port/index.html?speed=50&log-fps" 2> "$work/web.txt" || true
+web_mixed=$(grep -o 'fps [0-9.]* steps/s [0-9.]* step [0-9]* grains [0-9]* t [0-9.]*' "$work/web.txt" | tail -n 1 || true)
 rate() { awk '{ for (i = 1; i < NF; i++) { if ($i == "step") s = $(i + 1); if ($i == "t") t = $(i + 1) } } END { if (t > 0) printf "%.1f", s / t }' <<< "$1"; }
 
 {
   echo "supergrain view under Xvfb (software OpenGL), 1280x800, $(nproc) cores, $(date -u +%F)"
   echo
   echo "1,000-grain pour (examples/scenes/pour-1000.toml), once a second over 60 s:"
-  cat /tmp/supergrain-fps.txt
+  cat "$work/fps.txt"
   echo
   echo "mixed preset, 50 steps per frame, native, last line (t: seconds since start):"
   echo "$native_mixed"

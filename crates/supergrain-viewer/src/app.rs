@@ -52,13 +52,17 @@ struct Camera {
 }
 
 impl Camera {
-    fn fit(region: Aabb, rect: Rect) -> Camera {
+    /// `None` for a canvas too small to fit anything into (a window shrunk to nothing).
+    fn fit(region: Aabb, rect: Rect) -> Option<Camera> {
+        if rect.width() < 2.0 || rect.height() < 2.0 || !(region.width() > 0.0) {
+            return None;
+        }
         let sx = f64::from(rect.width()) / region.width();
         let sy = f64::from(rect.height()) / region.height();
-        Camera {
+        Some(Camera {
             center: region.center(),
             scale: 0.92 * sx.min(sy),
-        }
+        })
     }
 
     fn to_screen(self, rect: Rect, p: Vec2) -> Pos2 {
@@ -79,10 +83,15 @@ impl Camera {
 
     /// Zoom by `factor` about the screen point `at`, which keeps its place in the plane.
     fn zoom(&mut self, rect: Rect, at: Pos2, factor: f64) {
+        if !factor.is_finite() || factor <= 0.0 {
+            return;
+        }
         let before = self.to_plane(rect, at);
         self.scale = (self.scale * factor).clamp(1.0, 1e5);
         let after = self.to_plane(rect, at);
-        self.center += before - after;
+        if (before - after).is_finite() {
+            self.center += before - after;
+        }
     }
 }
 
@@ -105,14 +114,40 @@ pub struct App {
     #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     shot_path: String,
     last_label: String,
+    /// Commands sent so far; a snapshot says how many the simulation has carried out.
+    sent: u64,
+    /// Values edited in the panel that the simulation has not seen yet.
+    edits: Edits,
     /// The grains drawn on the CPU into a picture, shown as one texture, and what it shows.
     grains_picture: Option<(egui::TextureHandle, PictureKey)>,
 }
 
+/// A value edited in the window, and the number of the command that carries it: until a
+/// snapshot shows that command done, the panel shows the edit, not the snapshot's older value
+/// (a slow step can hold the next snapshot back for seconds).
+type Edit<T> = Option<(T, u64)>;
+
+#[derive(Default)]
+struct Edits {
+    tuning: Edit<crate::sim::Tuning>,
+    spawn: Edit<crate::sim::Spawn>,
+    overlays: Edit<crate::sim::Overlays>,
+    drop_shape: Edit<DropShape>,
+}
+
+/// The value to show: the edit while the simulation has not seen it, else the snapshot's.
+fn shown<T: Copy>(edit: &Edit<T>, done: u64, current: T) -> T {
+    match edit {
+        Some((v, n)) if done < *n => *v,
+        _ => current,
+    }
+}
+
 /// What a grains picture was drawn from: redrawn only when one of these changes.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 struct PictureKey {
-    snapshot: *const Snapshot,
+    /// Held, so its address cannot be reused by a later snapshot.
+    snapshot: Arc<Snapshot>,
     center: (f64, f64),
     scale: f64,
     size: [usize; 2],
@@ -121,11 +156,14 @@ struct PictureKey {
 impl App {
     pub fn new(sim: Sim, launch: Launch) -> App {
         let mut driver = Driver::new(sim);
+        let mut sent = 0;
         if launch.paused {
             driver.send(Command::Pause);
+            sent += 1;
         }
         if let Some(n) = launch.speed {
             driver.send(Command::Speed(n));
+            sent += 1;
         }
         let mode = if launch.explorer {
             Mode::Explorer
@@ -147,6 +185,8 @@ impl App {
             shot_path: "supergrain-screenshot.png".into(),
             last_label: String::new(),
             grains_picture: None,
+            sent,
+            edits: Edits::default(),
         }
     }
 
@@ -198,6 +238,13 @@ fn paint_arrow(painter: &egui::Painter, cam: Camera, rect: Rect, from: Vec2, pus
 }
 
 impl App {
+    /// Sends a command; returns its number.
+    fn send(&mut self, c: Command) -> u64 {
+        self.driver.send(c);
+        self.sent += 1;
+        self.sent
+    }
+
     fn top_bar(&mut self, ui: &mut egui::Ui, snap: &Snapshot, sps: f64) {
         ui.horizontal_wrapped(|ui| {
             ui.selectable_value(&mut self.mode, Mode::Simulation, "Simulation");
@@ -205,23 +252,27 @@ impl App {
             ui.separator();
             if snap.playing {
                 if ui.button("⏸ Pause").clicked() {
-                    self.driver.send(Command::Pause);
+                    self.send(Command::Pause);
                 }
             } else if ui.button("▶ Play").clicked() {
-                self.driver.send(Command::Play);
+                self.send(Command::Play);
             }
             if ui.button("Step").clicked() {
-                self.driver.send(Command::Step);
+                self.send(Command::Step);
             }
             if ui.button("Reset").clicked() {
-                self.driver.send(Command::Reset);
+                self.send(Command::Reset);
             }
             let mut speed = snap.speed;
             if ui
-                .add(egui::Slider::new(&mut speed, 1..=MAX_SPEED).text("steps/frame"))
+                .add(
+                    egui::Slider::new(&mut speed, 1..=MAX_SPEED)
+                        .clamping(egui::SliderClamping::Edits)
+                        .text("steps/frame"),
+                )
                 .changed()
             {
-                self.driver.send(Command::Speed(speed));
+                self.send(Command::Speed(speed));
             }
             ui.separator();
             ui.label(format!(
@@ -244,7 +295,7 @@ impl App {
             .show_ui(ui, |ui| {
                 for name in crate::sim::presets() {
                     if ui.selectable_label(false, *name).clicked() {
-                        self.driver.send(Command::Preset((*name).to_string()));
+                        self.send(Command::Preset((*name).to_string()));
                     }
                 }
             });
@@ -253,16 +304,16 @@ impl App {
             ui.text_edit_singleline(&mut self.open_path)
                 .on_hover_text("a scene file (TOML); or drop one on the window");
             if ui.button("Open").clicked() {
-                match std::fs::read_to_string(&self.open_path) {
-                    Ok(text) => self.driver.send(Command::Open {
+                let command = match std::fs::read_to_string(&self.open_path) {
+                    Ok(text) => Command::Open {
                         name: self.open_path.clone(),
                         text,
-                    }),
-                    Err(e) => self.driver.send(Command::Open {
-                        name: self.open_path.clone(),
-                        text: format!("cannot read the file: {e}"),
-                    }),
-                }
+                    },
+                    Err(e) => {
+                        Command::Notice(format!("cannot read scene file {}: {e}", self.open_path))
+                    }
+                };
+                self.send(command);
             }
         });
         #[cfg(target_arch = "wasm32")]
@@ -270,52 +321,82 @@ impl App {
 
         ui.separator();
         ui.heading("Solver");
-        if let Some(mut t) = snap.tuning {
+        if let Some(current) = snap.tuning {
+            let mut t = shown(&self.edits.tuning, snap.commands, current);
             let before = t;
             ui.add(
                 egui::Slider::new(&mut t.step, 0.001..=0.05)
+                    .clamping(egui::SliderClamping::Edits)
                     .logarithmic(true)
                     .text("time step"),
             );
-            ui.add(egui::Slider::new(&mut t.damping, 0.0..=1.0).text("damping"));
-            ui.add(egui::Slider::new(&mut t.iterations, 1..=MAX_ITERATIONS).text("iterations"));
-            ui.add(egui::Slider::new(&mut t.depth, 1..=MAX_DEPTH).text("quadtree depth"));
+            ui.add(
+                egui::Slider::new(&mut t.damping, 0.0..=0.99)
+                    .clamping(egui::SliderClamping::Edits)
+                    .text("damping"),
+            );
+            ui.add(
+                egui::Slider::new(&mut t.iterations, 1..=MAX_ITERATIONS)
+                    .clamping(egui::SliderClamping::Edits)
+                    .text("iterations"),
+            );
+            ui.add(
+                egui::Slider::new(&mut t.depth, 1..=MAX_DEPTH)
+                    .clamping(egui::SliderClamping::Edits)
+                    .text("quadtree depth"),
+            );
             ui.add(
                 egui::Slider::new(&mut t.eps, 0.0..=0.1)
+                    .clamping(egui::SliderClamping::Edits)
                     .logarithmic(true)
                     .text("quadtree eps"),
             );
             if t != before {
-                self.driver.send(Command::Tune(t));
+                let n = self.send(Command::Tune(t));
+                self.edits.tuning = Some((t, n));
             }
         }
         ui.heading("Spawn rule");
-        if let Some(mut s) = snap.spawn {
+        if let Some(current) = snap.spawn {
+            let mut s = shown(&self.edits.spawn, snap.commands, current);
             let before = s;
-            ui.add(egui::Slider::new(&mut s.interval, 1..=200).text("steps between grains"));
-            ui.add(egui::Slider::new(&mut s.top, 1.0..=40.0).text("height"));
+            ui.add(
+                egui::Slider::new(&mut s.interval, 1..=200)
+                    .clamping(egui::SliderClamping::Edits)
+                    .text("steps between grains"),
+            );
+            ui.add(
+                egui::Slider::new(&mut s.top, 1.0..=40.0)
+                    .clamping(egui::SliderClamping::Edits)
+                    .text("height"),
+            );
             if s != before {
-                self.driver.send(Command::Spawn(s));
+                let n = self.send(Command::Spawn(s));
+                self.edits.spawn = Some((s, n));
             }
             ui.small("applies from the next reset");
         }
 
         ui.separator();
         ui.heading("Overlays");
-        let mut o = snap.overlays;
+        let before = shown(&self.edits.overlays, snap.commands, snap.overlays);
+        let mut o = before;
         ui.checkbox(&mut o.boxes, "bounding boxes");
         ui.checkbox(&mut o.cells, "quadtree cells of contacts");
         ui.checkbox(&mut o.vectors, "penetration vectors");
-        if o != snap.overlays {
-            self.driver.send(Command::Overlays(o));
+        if o != before {
+            let n = self.send(Command::Overlays(o));
+            self.edits.overlays = Some((o, n));
         }
 
         ui.separator();
         ui.heading("Click to drop");
-        let mut d = snap.drop_shape;
+        let before = shown(&self.edits.drop_shape, snap.commands, snap.drop_shape);
+        let mut d = before;
         shape_sliders(ui, &mut d.semi_axes, &mut d.exponents, &mut d.angle);
-        if d != snap.drop_shape {
-            self.driver.send(Command::DropShape(DropShape { ..d }));
+        if d != before {
+            let n = self.send(Command::DropShape(d));
+            self.edits.drop_shape = Some((d, n));
         }
         ui.small(
             "left click: drop · left drag on a grain: move it · right drag: pan · wheel: zoom",
@@ -355,7 +436,12 @@ impl App {
             self.camera = None;
             self.last_label = snap.label.clone();
         }
-        let cam = self.camera.get_or_insert_with(|| Camera::fit(region, rect));
+        if self.camera.is_none() {
+            self.camera = Camera::fit(region, rect);
+        }
+        let Some(cam) = self.camera.as_mut() else {
+            return;
+        };
         pan_and_zoom(ui, &response, rect, cam);
         let cam = *cam;
 
@@ -406,20 +492,20 @@ impl App {
         if response.drag_started_by(PointerButton::Primary)
             && let Some(q) = response.interact_pointer_pos()
         {
-            self.driver.send(Command::Grab(cam.to_plane(rect, q)));
+            self.send(Command::Grab(cam.to_plane(rect, q)));
         }
         if response.dragged_by(PointerButton::Primary)
             && let Some(q) = response.interact_pointer_pos()
         {
-            self.driver.send(Command::DragTo(cam.to_plane(rect, q)));
+            self.send(Command::DragTo(cam.to_plane(rect, q)));
         }
         if response.drag_stopped() {
-            self.driver.send(Command::Release);
+            self.send(Command::Release);
         }
         if response.clicked_by(PointerButton::Primary)
             && let Some(q) = response.interact_pointer_pos()
         {
-            self.driver.send(Command::Drop(cam.to_plane(rect, q)));
+            self.send(Command::Drop(cam.to_plane(rect, q)));
         }
     }
 
@@ -435,18 +521,27 @@ impl App {
         cam: Camera,
         snap: &Arc<Snapshot>,
     ) {
-        let ppp = f64::from(ui.ctx().pixels_per_point());
+        // No larger than the GPU takes in one texture: past that, fewer pixels per point.
+        let max_side = ui.ctx().input(|i| i.max_texture_side) as f64;
+        let longest = f64::from(rect.width().max(rect.height())).max(1.0);
+        let ppp = f64::from(ui.ctx().pixels_per_point()).min(max_side / longest);
         let size = [
             (f64::from(rect.width()) * ppp).round().max(1.0) as usize,
             (f64::from(rect.height()) * ppp).round().max(1.0) as usize,
         ];
         let key = PictureKey {
-            snapshot: Arc::as_ptr(snap),
+            snapshot: Arc::clone(snap),
             center: (cam.center.x, cam.center.y),
             scale: cam.scale,
             size,
         };
-        if self.grains_picture.as_ref().map(|(_, k)| *k) != Some(key) {
+        let same = |k: &PictureKey| {
+            Arc::ptr_eq(&k.snapshot, &key.snapshot)
+                && k.center == key.center
+                && k.scale == key.scale
+                && k.size == key.size
+        };
+        if !self.grains_picture.as_ref().is_some_and(|(_, k)| same(k)) {
             let image =
                 crate::picture::grains(&snap.grains, snap.held, size, cam.center, cam.scale * ppp);
             match &mut self.grains_picture {
@@ -476,7 +571,11 @@ impl App {
         let b = &mut self.explorer.b;
         shape_sliders(ui, &mut b.semi_axes, &mut b.exponents, &mut b.angle);
         ui.heading("Quadtree");
-        ui.add(egui::Slider::new(&mut self.explorer.depth, 1..=MAX_DEPTH).text("depth"));
+        ui.add(
+            egui::Slider::new(&mut self.explorer.depth, 1..=MAX_DEPTH)
+                .clamping(egui::SliderClamping::Edits)
+                .text("depth"),
+        );
         ui.small("Cells: grey outside either shape, orange inside both, blue on a boundary (filled at the last level). Dots: the deepest points; red: the penetration vectors.");
     }
 
@@ -484,9 +583,12 @@ impl App {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
         painter.rect_filled(rect, 0.0, Color32::WHITE);
-        let cam = self
-            .explorer_camera
-            .get_or_insert_with(|| Camera::fit(Explorer::region(), rect));
+        if self.explorer_camera.is_none() {
+            self.explorer_camera = Camera::fit(Explorer::region(), rect);
+        }
+        let Some(cam) = self.explorer_camera.as_mut() else {
+            return;
+        };
         pan_and_zoom(ui, &response, rect, cam);
         let cam = *cam;
         if let Some(q) = response.hover_pos() {
@@ -596,8 +698,11 @@ impl App {
             } else {
                 f.name.clone()
             };
-            let text = text.unwrap_or_else(|e| format!("cannot read the file: {e}"));
-            self.driver.send(Command::Open { name, text });
+            let command = match text {
+                Ok(text) => Command::Open { name, text },
+                Err(e) => Command::Notice(format!("cannot read {name}: {e}")),
+            };
+            self.send(command);
         }
     }
 }
@@ -608,19 +713,33 @@ fn shape_sliders(
     exponents: &mut [f64; 2],
     angle: &mut f64,
 ) {
-    ui.add(egui::Slider::new(&mut semi_axes[0], 0.05..=2.0).text("semi-axis x"));
-    ui.add(egui::Slider::new(&mut semi_axes[1], 0.05..=2.0).text("semi-axis y"));
+    ui.add(
+        egui::Slider::new(&mut semi_axes[0], 0.05..=2.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("semi-axis x"),
+    );
+    ui.add(
+        egui::Slider::new(&mut semi_axes[1], 0.05..=2.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("semi-axis y"),
+    );
     ui.add(
         egui::Slider::new(&mut exponents[0], 0.3..=10.0)
+            .clamping(egui::SliderClamping::Edits)
             .logarithmic(true)
             .text("exponent x"),
     );
     ui.add(
         egui::Slider::new(&mut exponents[1], 0.3..=10.0)
+            .clamping(egui::SliderClamping::Edits)
             .logarithmic(true)
             .text("exponent y"),
     );
-    ui.add(egui::Slider::new(angle, -3.2..=3.2).text("angle"));
+    ui.add(
+        egui::Slider::new(angle, -3.2..=3.2)
+            .clamping(egui::SliderClamping::Edits)
+            .text("angle"),
+    );
 }
 
 fn pan_and_zoom(ui: &egui::Ui, response: &egui::Response, rect: Rect, cam: &mut Camera) {
@@ -695,7 +814,12 @@ impl eframe::App for App {
             }
         }
         // Keep drawing while the grains move (natively the worker also asks on each snapshot).
+        // Natively the worker asks for a repaint with each snapshot; otherwise no more than
+        // 60 frames a second are drawn (a browser paces frames itself).
         if snap.playing || self.launch.quit_after.is_some() || self.launch.log_fps {
+            #[cfg(not(target_arch = "wasm32"))]
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(1.0 / 60.0));
+            #[cfg(target_arch = "wasm32")]
             ctx.request_repaint();
         }
     }

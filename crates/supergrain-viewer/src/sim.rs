@@ -125,6 +125,8 @@ pub enum Command {
     /// Move the held grain (its grabbed point follows).
     DragTo(Vec2),
     Release,
+    /// Show a message (a file that could not be read, say).
+    Notice(String),
 }
 
 /// A grain as drawn.
@@ -169,6 +171,9 @@ pub struct Snapshot {
     pub message: Option<String>,
     /// Which grain is held.
     pub held: Option<usize>,
+    /// Commands carried out so far (applied or refused): the window knows from it which of
+    /// its edits the simulation has seen.
+    pub commands: u64,
 }
 
 /// The simulation behind the window.
@@ -183,6 +188,7 @@ pub struct Sim {
     /// The held grain and the grabbed point in its own frame.
     held: Option<(usize, Vec2)>,
     message: Option<String>,
+    commands: u64,
 }
 
 /// Upper bounds the sliders and commands keep to, so a slip of the mouse cannot stall the
@@ -242,6 +248,7 @@ impl Sim {
             drop_shape: DropShape::default(),
             held: None,
             message: None,
+            commands: 0,
         }
     }
 
@@ -269,9 +276,11 @@ impl Sim {
     /// Carries out one command. A command that cannot be carried out leaves everything as it
     /// was and says why in [`Sim::message`].
     pub fn apply(&mut self, command: Command) {
+        let commands = self.commands + 1;
         if let Err(e) = self.try_apply(command) {
             self.message = Some(e);
         }
+        self.commands = commands;
     }
 
     fn try_apply(&mut self, command: Command) -> Result<(), String> {
@@ -294,6 +303,12 @@ impl Sim {
             }
             Command::Tune(t) => self.tune(t)?,
             Command::Spawn(s) => {
+                if matches!(self.source, Source::State { .. }) {
+                    return Err(
+                        "a saved state has no spawn rule: its grains are all there (open a scene to pour)"
+                            .into(),
+                    );
+                }
                 if s.interval == 0 || !(s.top.is_finite() && s.top > self.scene.walls.floor) {
                     return Err(format!(
                         "spawn: interval must be at least 1 and the top above the floor, got {} and {}",
@@ -318,13 +333,16 @@ impl Sim {
             }
             Command::DragTo(at) => self.drag_to(at),
             Command::Release => self.held = None,
+            Command::Notice(m) => self.message = Some(m),
         }
         Ok(())
     }
 
     fn replace(&mut self, other: Sim) {
         let (speed, overlays, drop_shape) = (self.speed, self.overlays, self.drop_shape);
+        let commands = self.commands;
         *self = other;
+        self.commands = commands;
         self.speed = speed;
         self.overlays = overlays;
         self.drop_shape = drop_shape;
@@ -348,15 +366,23 @@ impl Sim {
         let ok = t.step.is_finite()
             && t.step > 0.0
             && t.step <= 0.1
-            && (0.0..=1.0).contains(&t.damping)
+            && (0.0..1.0).contains(&t.damping)
             && (1..=MAX_ITERATIONS).contains(&t.iterations)
             && t.depth <= MAX_DEPTH;
         if !ok {
             return Err(format!(
-                "settings: step in (0, 0.1], damping in [0, 1], iterations in 1..={MAX_ITERATIONS}, depth at most {MAX_DEPTH}; got {t:?}"
+                "settings: step in (0, 0.1], damping in [0, 1), iterations in 1..={MAX_ITERATIONS}, depth at most {MAX_DEPTH}; got {t:?}"
             ));
         }
         let precision = Precision::new(t.depth, t.eps).map_err(|e| e.to_string())?;
+        // Verlet keeps velocity as `(x - x_prev) / h`: a new step keeps the velocities.
+        let ratio = t.step / self.world.settings.step;
+        if ratio != 1.0 {
+            for b in &mut self.world.bodies {
+                b.previous_center = b.center - (b.center - b.previous_center) * ratio;
+                b.previous_angle = b.angle - (b.angle - b.previous_angle) * ratio;
+            }
+        }
         let s = &mut self.world.settings;
         s.step = t.step;
         s.damping = t.damping;
@@ -412,8 +438,18 @@ impl Sim {
         // The grabbed point goes to the mouse; the box's walls still hold the grain.
         let offset = b.pose().to_world(grip) - b.center;
         let mut c = at - offset;
-        c.x = c.x.clamp(w.left, w.right);
-        c.y = c.y.max(w.floor);
+        if !c.is_finite() {
+            return;
+        }
+        // The whole box stays inside the walls and above the floor.
+        let bb = b.bounding_box();
+        let (half_w, below) = (0.5 * bb.width(), b.center.y - bb.min.y);
+        c.x = if w.right - w.left > 2.0 * half_w {
+            c.x.clamp(w.left + half_w, w.right - half_w)
+        } else {
+            0.5 * (w.left + w.right)
+        };
+        c.y = c.y.max(w.floor + below);
         b.center = c;
         b.previous_center = c;
         b.previous_angle = b.angle;
@@ -481,6 +517,7 @@ impl Sim {
             asleep: world.asleep(),
             message: self.message.clone(),
             held: self.held.map(|(i, _)| i),
+            commands: self.commands,
             ..Snapshot::default()
         };
         if self.overlays.vectors || self.overlays.cells {

@@ -430,3 +430,70 @@ fn a_saved_state_opens_and_reset_returns_to_it() {
     let e = Sim::state("notes.json", "{\"grains\": 3}").err().unwrap();
     assert!(e.starts_with("notes.json: not a supergrain state"), "{e}");
 }
+
+#[test]
+fn a_new_time_step_keeps_every_grain_velocity() {
+    let mut sim = empty();
+    sim.apply(Command::Drop(Vec2::new(0.0, 4.0)));
+    sim.apply(Command::Play);
+    for _ in 0..5 {
+        sim.frame();
+    }
+    let h = sim.world.settings.step;
+    let b = sim.world.bodies[0];
+    let v = (b.center - b.previous_center) * (1.0 / h);
+    assert!(v.y < -0.1, "falling: {v:?}");
+    let t = Tuning {
+        step: h / 4.0,
+        ..Tuning::of(&sim.world.settings)
+    };
+    sim.apply(Command::Tune(t));
+    let b = sim.world.bodies[0];
+    let v2 = (b.center - b.previous_center) * (1.0 / t.step);
+    assert!((v2 - v).norm() < 1e-9 * v.norm(), "{v:?} became {v2:?}");
+}
+
+#[test]
+fn refusals_are_counted_said_and_change_nothing() {
+    let mut sim = empty();
+    let before = sim.snapshot().commands;
+    // Damping 1 would stop nothing and cannot be saved (dumps need [0, 1)).
+    let t = Tuning {
+        damping: 1.0,
+        ..Tuning::of(&sim.world.settings)
+    };
+    sim.apply(Command::Tune(t));
+    assert!(sim.message().unwrap().contains("damping"));
+    assert!(sim.world.settings.damping < 1.0);
+    sim.apply(Command::Notice("cannot read x.toml: gone".into()));
+    assert_eq!(sim.message(), Some("cannot read x.toml: gone"));
+    assert_eq!(sim.snapshot().commands, before + 2);
+    // A saved state has no spawn rule to change.
+    let mut state = Sim::state("s.json", &sim.state_json()).unwrap();
+    state.apply(Command::Spawn(supergrain_viewer::sim::Spawn {
+        interval: 3,
+        top: 5.0,
+    }));
+    assert!(state.message().unwrap().contains("no spawn rule"));
+}
+
+#[test]
+fn a_dragged_grain_stays_inside_the_box() {
+    let mut sim = empty();
+    sim.apply(Command::DropShape(DropShape {
+        semi_axes: [0.4, 0.2],
+        exponents: [2.0, 2.0],
+        angle: 0.0,
+    }));
+    sim.apply(Command::Drop(Vec2::new(0.0, 3.0)));
+    sim.apply(Command::Grab(Vec2::new(0.0, 3.0)));
+    // Far past the right wall (at 2) and below the floor (at 0).
+    sim.apply(Command::DragTo(Vec2::new(9.0, -5.0)));
+    let b = sim.world.bodies[0];
+    let bb = b.bounding_box();
+    assert!(bb.max.x <= 2.0 + 1e-12 && bb.min.y >= -1e-12, "{bb:?}");
+    assert!(
+        (bb.max.x - 2.0).abs() < 1e-9 && bb.min.y.abs() < 1e-9,
+        "{bb:?}"
+    );
+}
