@@ -54,7 +54,8 @@ struct Camera {
 impl Camera {
     /// `None` for a canvas too small to fit anything into (a window shrunk to nothing).
     fn fit(region: Aabb, rect: Rect) -> Option<Camera> {
-        if rect.width() < 2.0 || rect.height() < 2.0 || !(region.width() > 0.0) {
+        let empty = region.width().is_nan() || region.width() <= 0.0;
+        if rect.width() < 2.0 || rect.height() < 2.0 || empty {
             return None;
         }
         let sx = f64::from(rect.width()) / region.width();
