@@ -45,6 +45,9 @@ pub struct ScalingArgs {
     /// Print {"cases": [...], "peak_rss_kib"} instead of a table.
     #[arg(long)]
     json: bool,
+    /// Print CSV instead of a table: a header, then one row per case.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
 }
 
 /// The settled 1,000-grain pour, built in so the benchmark runs from anywhere.
@@ -79,16 +82,20 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
         ));
     }
     let peak = peak_rss_kib();
-    if args.json {
+    if args.json || args.csv {
         let cases: Vec<_> = cases
             .iter()
             .map(|c| {
                 serde_json::json!({
                     "grains": c.grains, "broad_phase": c.broad_phase, "ms_per_step": c.ms_per_step,
                     "us_per_grain_step": c.us_per_grain_step, "tests_per_step": c.tests_per_step,
+                    "peak_rss_kib": peak,
                 })
             })
             .collect();
+        if args.csv {
+            return print_csv(&cases);
+        }
         println!(
             "{}",
             serde_json::json!({ "cases": cases, "peak_rss_kib": peak })
@@ -133,6 +140,9 @@ pub struct RenderArgs {
     /// Print {"cases": [{"name", "ms"}]} instead of a table.
     #[arg(long)]
     json: bool,
+    /// Print CSV instead of a table: a header, then one row per case.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
 }
 
 /// The 1,000-grain example scene, built in so the benchmark runs from anywhere.
@@ -143,11 +153,14 @@ fn render(args: RenderArgs) -> Result<ExitCode> {
         .map_err(|e| anyhow::anyhow!("the built-in scene: {e}"))?;
     let world = supergrain::bench::laid_out(&scene);
     let cases = supergrain::bench::render_cases(&world, args.width, args.reps);
-    if args.json {
+    if args.json || args.csv {
         let cases: Vec<_> = cases
             .iter()
             .map(|c| serde_json::json!({ "name": c.name, "ms": c.ms }))
             .collect();
+        if args.csv {
+            return print_csv(&cases);
+        }
         println!(
             "{}",
             serde_json::json!({ "grains": world.bodies.len(), "width": args.width, "cases": cases })
@@ -176,6 +189,9 @@ pub struct PresetArgs {
     /// Print {"cases": [...]} instead of a table.
     #[arg(long)]
     json: bool,
+    /// Print CSV instead of a table: a header, then one row per case.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
 }
 
 #[derive(Parser)]
@@ -195,6 +211,9 @@ pub struct ContactArgs {
     /// Print {"cases": [{"name", "ns_per_pair", "pairs", ...}]} instead of a table.
     #[arg(long)]
     json: bool,
+    /// Print CSV instead of a table: a header, then one row per case.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
 }
 
 pub fn run(b: Bench) -> Result<ExitCode> {
@@ -208,7 +227,7 @@ pub fn run(b: Bench) -> Result<ExitCode> {
 
 fn presets(args: PresetArgs) -> Result<ExitCode> {
     let cases = supergrain::bench::preset_cases(args.steps);
-    if args.json {
+    if args.json || args.csv {
         let cases: Vec<_> = cases
             .iter()
             .map(|c| {
@@ -218,6 +237,9 @@ fn presets(args: PresetArgs) -> Result<ExitCode> {
                 })
             })
             .collect();
+        if args.csv {
+            return print_csv(&cases);
+        }
         println!("{}", serde_json::json!({ "cases": cases }));
         return Ok(ExitCode::SUCCESS);
     }
@@ -244,7 +266,7 @@ fn presets(args: PresetArgs) -> Result<ExitCode> {
 fn contact(args: ContactArgs) -> Result<ExitCode> {
     let precision = Precision::new(args.depth, 0.0).context("invalid --depth")?;
     let cases = contact_cases(args.pairs, args.reps, &precision, args.seed);
-    if args.json {
+    if args.json || args.csv {
         let cases: Vec<_> = cases
             .iter()
             .map(|c| {
@@ -257,6 +279,9 @@ fn contact(args: ContactArgs) -> Result<ExitCode> {
                 })
             })
             .collect();
+        if args.csv {
+            return print_csv(&cases);
+        }
         println!("{}", serde_json::json!({ "cases": cases }));
     } else {
         let floor = cases.last().map_or(f64::NAN, |c| c.ns_per_pair);
@@ -280,5 +305,29 @@ fn contact(args: ContactArgs) -> Result<ExitCode> {
             args.reps
         );
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The cases as CSV on standard output: the first case's fields (alphabetical) as the header,
+/// then one row per case; names with commas are quoted.
+fn print_csv(cases: &[serde_json::Value]) -> Result<ExitCode> {
+    let mut out = csv::Writer::from_writer(std::io::stdout().lock());
+    let keys: Vec<String> = cases
+        .first()
+        .and_then(|c| c.as_object())
+        .map(|o| o.keys().cloned().collect())
+        .unwrap_or_default();
+    out.write_record(&keys)
+        .context("cannot write to standard output")?;
+    for c in cases {
+        let row = keys.iter().map(|k| match &c[k] {
+            serde_json::Value::String(s) => s.clone(),
+            serde_json::Value::Null => String::new(),
+            v => v.to_string(),
+        });
+        out.write_record(row)
+            .context("cannot write to standard output")?;
+    }
+    out.flush().context("cannot write to standard output")?;
     Ok(ExitCode::SUCCESS)
 }

@@ -978,3 +978,39 @@ fn contact_help_batch_example_runs_verbatim() {
     let out = ok(&o);
     check_unit_circles_tol(&single_answer(&out), 1.5, 0.05);
 }
+
+#[test]
+fn bench_csv_has_a_header_and_one_row_per_case() {
+    let text = ok(&run(
+        &["bench", "contact", "--pairs", "20", "--reps", "1", "--csv"],
+        None,
+    ));
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("cells_per_pair,name,ns_per_pair,overlap_fraction,pairs")
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 5, "{text}");
+    // The floor's name holds a comma, so it is quoted; every row has the header's five fields.
+    let floor = rows
+        .iter()
+        .find(|r| r.contains("floor"))
+        .expect("the floor row");
+    assert!(
+        floor.contains("\"circles (centre distance, floor)\""),
+        "{floor}"
+    );
+    for r in &rows {
+        let unquoted = r.replace("\"circles (centre distance, floor)\"", "floor");
+        let fields: Vec<&str> = unquoted.split(',').collect();
+        assert_eq!(fields.len(), 5, "{r}");
+        let ns: f64 = fields[2].parse().expect("ns_per_pair is a number");
+        assert!(ns > 0.0, "{r}");
+        assert_eq!(fields[4], "20", "{r}");
+    }
+    // Both at once is a usage error (clap's exit code 2), not a run.
+    let o = run(&["bench", "contact", "--csv", "--json"], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
+}
