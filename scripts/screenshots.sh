@@ -87,6 +87,15 @@ chrome=(chromium --headless --no-sandbox --no-first-run --disable-background-net
 timeout 60 "${chrome[@]}" --virtual-time-budget=8000 --screenshot="$out/viewer-web.png" \
   "http://127.0.0.1:$port/index.html?speed=4" 2>/dev/null
 not_blank "$out/viewer-web.png"
+# The page's Save buttons offer a state that the native tools read, and a PNG.
+if command -v npm >/dev/null; then
+  (cd "$work" && npm init -y >/dev/null && npm install --silent playwright-core@1 >/dev/null)
+  cp scripts/web-save-check.mjs "$work/"
+  node "$work/web-save-check.mjs" "http://127.0.0.1:$port/index.html" "$work"
+  "$sg" render "$work/supergrain-state.json" -o "$work/from-web.png"
+  echo "the web page's saved state renders natively"
+fi
+
 # The browser's speed on the mixed preset: its console lines over 45 s (page start included).
 timeout 45 "${chrome[@]}" --enable-logging=stderr --v=0 \
   "http://127.0.0.1:$port/index.html?speed=50&log-fps" 2> "$work/web.txt" || true

@@ -422,6 +422,22 @@ impl App {
                 }
             });
         }
+        #[cfg(target_arch = "wasm32")]
+        {
+            ui.separator();
+            ui.heading("Save");
+            ui.horizontal(|ui| {
+                if ui.button("Picture").clicked() {
+                    self.driver.screenshot("supergrain-screenshot.png", 1200);
+                }
+                if ui.button("State").clicked() {
+                    self.driver.save_state("supergrain-state.json");
+                }
+            });
+            ui.small(
+                "downloads: the picture as PNG, the state as a dump (supergrain view --state)",
+            );
+        }
     }
 
     fn canvas(&mut self, ui: &mut egui::Ui, snap: &Arc<Snapshot>) {

@@ -205,6 +205,31 @@ mod inline {
     use super::{Frame, Meter};
     use crate::sim::{Command, Sim};
 
+    /// Hands `bytes` to the browser as a file download: a Blob, an object URL, and a click on a
+    /// link that is never added to the page.
+    fn download(name: &str, bytes: &[u8], mime: &str) -> Result<(), String> {
+        use wasm_bindgen::JsCast;
+        let fail = |e: wasm_bindgen::JsValue| format!("cannot offer {name}: {e:?}");
+        let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
+        let options = web_sys::BlobPropertyBag::new();
+        options.set_type(mime);
+        let blob = web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options)
+            .map_err(fail)?;
+        let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(fail)?;
+        let document = web_sys::window()
+            .and_then(|w| w.document())
+            .ok_or_else(|| format!("cannot offer {name}: no page"))?;
+        let link = document
+            .create_element("a")
+            .map_err(fail)?
+            .dyn_into::<web_sys::HtmlAnchorElement>()
+            .map_err(|_| format!("cannot offer {name}: no link element"))?;
+        link.set_href(&url);
+        link.set_download(name);
+        link.click();
+        web_sys::Url::revoke_object_url(&url).map_err(fail)
+    }
+
     /// The simulation stepped between the page's frames.
     pub struct Inline {
         sim: Sim,
@@ -223,6 +248,24 @@ mod inline {
 
         pub fn send(&mut self, c: Command) {
             self.sim.apply(c);
+        }
+
+        /// Offers the state (dump format) as a download named `name`.
+        pub fn save_state(&mut self, name: &str) {
+            let json = self.sim.state_json();
+            let r = download(name, json.as_bytes(), "application/json");
+            self.sim
+                .notice(r.map(|()| format!("state offered as {name}")));
+        }
+
+        /// Offers the interval renderer's picture of the state as a download named `name`.
+        pub fn screenshot(&mut self, name: &str, width: u32) {
+            let r = self
+                .sim
+                .screenshot_png(width)
+                .and_then(|png| download(name, &png, "image/png"));
+            self.sim
+                .notice(r.map(|()| format!("picture offered as {name}")));
         }
 
         pub fn frame(&mut self, now: f64) -> Frame {
