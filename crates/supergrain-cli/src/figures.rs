@@ -155,9 +155,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         contact: true,
     };
     let (p, c) = collision_png(&ellipse, &at_origin, &squircle, &touching, &fine, w, all);
-    let depth = c
-        .penetration
-        .map_or(0.0, |p| p.a_push.norm().max(p.b_push.norm()));
+    let depth = c.penetration.map_or(0.0, |p| p.depth());
     figure(
         "fig07.png",
         format!(

@@ -7,11 +7,11 @@ use eframe::egui::{
     self, Color32, Mesh, PointerButton, Pos2, Rect, Sense, Shape, Stroke, Vec2 as EVec2,
 };
 use supergrain::geometry::{Aabb, Vec2};
+use supergrain::render::cell_style;
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::subdivision::Class;
 
 use crate::driver::{Driver, Meter};
-use crate::explorer::Explorer;
+use crate::explorer::{ClassedCell, Explorer};
 use crate::sim::{Command, DropShape, MAX_DEPTH, MAX_ITERATIONS, MAX_SPEED, Sim, Snapshot};
 
 /// How the window was asked to behave (the `supergrain view` options).
@@ -229,6 +229,21 @@ fn add_grain(
 fn paint_box(painter: &egui::Painter, cam: Camera, rect: Rect, b: &Aabb, stroke: Stroke) {
     let r = Rect::from_two_pos(cam.to_screen(rect, b.min), cam.to_screen(rect, b.max));
     painter.rect_stroke(r, 0.0, stroke, egui::StrokeKind::Middle);
+}
+
+/// A quadtree cell in the colours of the paper's figures (`supergrain figures`).
+fn paint_cell(painter: &egui::Painter, cam: Camera, rect: Rect, c: &ClassedCell) {
+    let rgba = |[r, g, b, a]: [u8; 4]| Color32::from_rgba_unmultiplied(r, g, b, a);
+    let (fill, line) = cell_style(c.a, c.b, c.last);
+    let stroke = line.map_or(Stroke::NONE, |(colour, width)| {
+        Stroke::new(width, rgba(colour))
+    });
+    let pts = c.corners.map(|p| cam.to_screen(rect, p)).to_vec();
+    painter.add(Shape::convex_polygon(
+        pts,
+        fill.map_or(Color32::TRANSPARENT, rgba),
+        stroke,
+    ));
 }
 
 fn paint_arrow(painter: &egui::Painter, cam: Camera, rect: Rect, from: Vec2, push: Vec2) {
@@ -484,16 +499,7 @@ impl App {
             }
         }
         for c in &snap.cells {
-            let pts = c.corners.map(|p| cam.to_screen(rect, p)).to_vec();
-            let (fill, line) = if c.inside_both {
-                (
-                    Color32::from_rgba_unmultiplied(0xff, 0x98, 0x00, 150),
-                    Color32::from_rgb(0xe6, 0x51, 0x00),
-                )
-            } else {
-                (Color32::TRANSPARENT, Color32::from_rgb(0x15, 0x65, 0xc0))
-            };
-            painter.add(Shape::convex_polygon(pts, fill, Stroke::new(0.5, line)));
+            paint_cell(&painter, cam, rect, c);
         }
         if snap.overlays.vectors {
             for p in &snap.contacts {
@@ -645,23 +651,7 @@ impl App {
             ));
         }
         for c in &eval.cells {
-            let pts = c.corners.map(|p| cam.to_screen(rect, p)).to_vec();
-            let (fill, line) = if c.a == Class::Outside || c.b == Class::Outside {
-                (Color32::TRANSPARENT, Color32::from_gray(170))
-            } else if c.a == Class::Inside && c.b == Class::Inside {
-                (
-                    Color32::from_rgba_unmultiplied(0xff, 0x98, 0x00, 170),
-                    Color32::from_rgb(0xe6, 0x51, 0x00),
-                )
-            } else if c.last {
-                (
-                    Color32::from_rgba_unmultiplied(0x64, 0xb5, 0xf6, 150),
-                    Color32::from_rgb(0x15, 0x65, 0xc0),
-                )
-            } else {
-                (Color32::TRANSPARENT, Color32::from_rgb(0x15, 0x65, 0xc0))
-            };
-            painter.add(Shape::convex_polygon(pts, fill, Stroke::new(0.6, line)));
+            paint_cell(&painter, cam, rect, c);
         }
         let common = eval.boxes[0].intersection(&eval.boxes[1]);
         for b in eval.boxes.iter().chain(common.iter()) {
@@ -679,7 +669,7 @@ impl App {
                 paint_arrow(&painter, cam, rect, p.b_deepest, p.b_push);
                 format!(
                     "overlap · penetration {:.4} · {} cells",
-                    p.a_push.norm().max(p.b_push.norm()),
+                    p.depth(),
                     eval.contact.cells
                 )
             }
@@ -830,7 +820,6 @@ impl eframe::App for App {
                     .show(ctx, |ui| self.explorer_canvas(ui));
             }
         }
-        // Keep drawing while the grains move (natively the worker also asks on each snapshot).
         // Natively the worker asks for a repaint with each snapshot; otherwise no more than
         // 60 frames a second are drawn (a browser paces frames itself).
         if snap.playing || self.launch.quit_after.is_some() || self.launch.log_fps {

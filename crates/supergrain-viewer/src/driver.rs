@@ -203,7 +203,7 @@ mod inline {
     use std::sync::Arc;
 
     use super::{Frame, Meter};
-    use crate::sim::{Command, Sim};
+    use crate::sim::{Command, Sim, Snapshot};
 
     /// Hands `bytes` to the browser as a file download: a Blob, an object URL, and a click on a
     /// link that is never added to the page.
@@ -234,6 +234,8 @@ mod inline {
     pub struct Inline {
         sim: Sim,
         meter: Meter,
+        /// The last snapshot, made again only once the simulation has changed.
+        snapshot: Option<Arc<Snapshot>>,
     }
 
     impl Inline {
@@ -241,6 +243,7 @@ mod inline {
             Inline {
                 sim,
                 meter: Meter::default(),
+                snapshot: None,
             }
         }
 
@@ -248,6 +251,7 @@ mod inline {
 
         pub fn send(&mut self, c: Command) {
             self.sim.apply(c);
+            self.snapshot = None;
         }
 
         /// Offers the state (dump format) as a download named `name`.
@@ -256,6 +260,7 @@ mod inline {
             let r = download(name, json.as_bytes(), "application/json");
             self.sim
                 .notice(r.map(|()| format!("state offered as {name}")));
+            self.snapshot = None;
         }
 
         /// Offers the interval renderer's picture of the state as a download named `name`.
@@ -266,6 +271,7 @@ mod inline {
                 .and_then(|png| download(name, &png, "image/png"));
             self.sim
                 .notice(r.map(|()| format!("picture offered as {name}")));
+            self.snapshot = None;
         }
 
         pub fn frame(&mut self, now: f64) -> Frame {
@@ -277,13 +283,20 @@ mod inline {
             let mut steps = 0;
             if self.sim.playing() {
                 while steps < self.sim.speed() && (steps == 0 || ms() - start < 12.0) {
-                    self.sim.step_once();
+                    self.sim.step();
                     steps += 1;
                 }
             }
             self.meter.count(steps, now);
+            if steps > 0 {
+                self.snapshot = None;
+            }
+            let sim = &self.sim;
+            let snapshot = self
+                .snapshot
+                .get_or_insert_with(|| Arc::new(sim.snapshot()));
             Frame {
-                snapshot: Arc::new(self.sim.snapshot()),
+                snapshot: Arc::clone(snapshot),
                 steps_per_second: self.meter.rate(),
             }
         }

@@ -61,6 +61,20 @@ pub struct ClassedCell {
     pub last: bool,
 }
 
+/// The cells a collision test handed its sink (`contact_with_cells`), in A's frame, placed in
+/// the plane by A's pose.
+pub fn classed_cells(
+    raw: Vec<(Aabb, Class, Class, bool)>,
+    pose_a: &Pose,
+) -> impl Iterator<Item = ClassedCell> + '_ {
+    raw.into_iter().map(move |(cell, a, b, last)| ClassedCell {
+        corners: cell.corners().map(|p| pose_a.to_world(p)),
+        a,
+        b,
+        last,
+    })
+}
+
 /// What the explorer draws.
 #[derive(Clone, Debug)]
 pub struct Evaluation {
@@ -83,16 +97,7 @@ impl Explorer {
         let pb = Pose::new(self.b_center, self.b.angle).map_err(|e| e.to_string())?;
         let mut raw = Vec::new();
         let contact = contact_with_cells(&a, &pa, &b, &pb, &precision, &mut raw);
-        let cells = raw
-            .into_iter()
-            .map(|(cell, ca, cb, last)| ClassedCell {
-                // The quadtree runs in A's frame.
-                corners: cell.corners().map(|p| pa.to_world(p)),
-                a: ca,
-                b: cb,
-                last,
-            })
-            .collect();
+        let cells = classed_cells(raw, &pa).collect();
         Ok(Evaluation {
             shapes: [(a, pa), (b, pb)],
             boxes: [a.bounding_box(&pa), b.bounding_box(&pb)],

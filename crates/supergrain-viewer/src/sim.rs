@@ -7,9 +7,11 @@ use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::render::{Colouring, Style, render_world};
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::solver::{Body, Settings, grain_contact};
+use supergrain::solver::{Body, Settings};
 use supergrain::subdivision::Precision;
 use supergrain::world::{PRESETS, Scene, Touch, World};
+
+use crate::explorer::{ClassedCell, classed_cells};
 
 /// Where the scene came from, shown in the title and used by reset.
 #[derive(Clone, Debug, PartialEq)]
@@ -138,15 +140,6 @@ pub struct Grain {
     pub asleep: bool,
 }
 
-/// A quadtree cell of a contact, in the plane (its corners), and whether it is a final
-/// boundary cell.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cell {
-    pub corners: [Vec2; 4],
-    pub inside_both: bool,
-    pub last: bool,
-}
-
 /// What one frame draws.
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
@@ -166,7 +159,9 @@ pub struct Snapshot {
     /// Grain-grain contacts: the pair's penetration.
     pub contacts: Vec<Penetration>,
     pub wall_contacts: Vec<WallPenetration>,
-    pub cells: Vec<Cell>,
+    /// The quadtree cells of those contacts that lie in both shapes' boxes and in neither's
+    /// outside.
+    pub cells: Vec<ClassedCell>,
     /// The last problem or notice, for the status line.
     pub message: Option<String>,
     /// Which grain is held.
@@ -219,12 +214,16 @@ impl Sim {
     /// name the file.
     pub fn state(name: &str, text: &str) -> Result<Sim, String> {
         let world = world_of_dump(text).map_err(|e| format!("{name}: {e}"))?;
-        // The scene behind a dump is not kept in it; the spawn sliders start from its top.
-        let mut scene = Scene::preset("mixed").expect("the mixed preset exists");
-        scene.groups.clear();
-        scene.walls = world.walls;
-        scene.top = world.top;
-        scene.settings = world.settings;
+        // The scene behind a dump is not kept in it: an empty one in the same box.
+        let scene = Scene {
+            seed: 0,
+            steps: 0,
+            walls: world.walls,
+            top: world.top,
+            spawn_interval: 1,
+            settings: world.settings,
+            groups: Vec::new(),
+        };
         let mut sim = Sim::new(
             Source::State {
                 name: name.to_string(),
@@ -351,13 +350,15 @@ impl Sim {
     /// Step 0 of the current scene, with the current settings and spawn rule.
     pub fn reset(&mut self) {
         self.scene.settings = self.world.settings;
-        self.world = World::new(&self.scene);
-        if let Source::State { text, .. } = &self.source
-            && let Ok(mut world) = world_of_dump(text)
-        {
-            world.settings = self.scene.settings;
-            self.world = world;
-        }
+        self.world = match &self.source {
+            // The text was a valid dump when it was opened.
+            Source::State { text, .. } => {
+                let mut world = world_of_dump(text).expect("a dump that opened reopens");
+                world.settings = self.scene.settings;
+                world
+            }
+            _ => World::new(&self.scene),
+        };
         self.held = None;
         self.message = None;
     }
@@ -404,11 +405,7 @@ impl Sim {
     }
 
     /// One step, whether playing or not (the browser's frame loop counts its own).
-    pub fn step_once(&mut self) {
-        self.step();
-    }
-
-    fn step(&mut self) {
+    pub fn step(&mut self) {
         let held = self.held.map(|(i, _)| (i, self.world.bodies[i]));
         self.world.step();
         // The held grain stays where the hand put it; it still pushes its neighbours.
@@ -471,10 +468,7 @@ impl Sim {
                 at.x, at.y
             ));
         }
-        let settings = self.world.settings;
-        if self.world.bodies.iter().any(|o| {
-            o.bounding_box().intersects(&bb) && grain_contact(&settings, &body, o).overlap()
-        }) {
+        if self.world.overlaps_a_grain(&body) {
             return Err(format!(
                 "no room at ({:.2}, {:.2}): the grain would overlap another",
                 at.x, at.y
@@ -562,29 +556,23 @@ fn world_of_dump(text: &str) -> Result<World, String> {
     dump.to_world().map_err(|e| e.to_string())
 }
 
-/// The quadtree cells of the test between grains `i` and `j`, in the plane.
-fn cells_of(world: &World, i: usize, j: usize, out: &mut Vec<Cell>) {
+/// The quadtree cells of the test between grains `i` and `j` outside neither grain, in the
+/// plane.
+fn cells_of(world: &World, i: usize, j: usize, out: &mut Vec<ClassedCell>) {
     use supergrain::subdivision::Class;
     let (a, b) = (&world.bodies[i], &world.bodies[j]);
     let mut cells = Vec::new();
-    let (pa, pb) = (a.pose(), b.pose());
+    let pa = a.pose();
     supergrain::contact::contact_with_cells(
         &a.shape,
         &pa,
         &b.shape,
-        &pb,
+        &b.pose(),
         &world.settings.precision,
         &mut cells,
     );
     out.extend(
-        cells
-            .iter()
-            .filter(|(_, ca, cb, _)| *ca != Class::Outside && *cb != Class::Outside)
-            .map(|(cell, ca, cb, last)| Cell {
-                corners: cell.corners().map(|p| pa.to_world(p)),
-                inside_both: *ca == Class::Inside && *cb == Class::Inside,
-                last: *last,
-            }),
+        classed_cells(cells, &pa).filter(|c| c.a != Class::Outside && c.b != Class::Outside),
     );
 }
 

@@ -37,7 +37,8 @@ fn f_grad_hess(s: &Superellipse, pose: &Pose, x: Vec2) -> (f64, Vec2, [[f64; 2];
     let gv = q / ax.y * av.powf(q - 1.0) * sv.signum();
     let huu = p * (p - 1.0) / (ax.x * ax.x) * au.powf(p - 2.0);
     let hvv = q * (q - 1.0) / (ax.y * ax.y) * av.powf(q - 2.0);
-    let (c, sn) = (pose.angle().cos(), pose.angle().sin());
+    let r = pose.rotation();
+    let (c, sn) = (r.cos, r.sin);
     // grad = R (gu, gv); H = R diag(huu, hvv) R^T.
     let g = Vec2::new(c * gu - sn * gv, sn * gu + c * gv);
     let h = [
@@ -123,18 +124,27 @@ fn to_boundary(s: &Superellipse, pose: &Pose, x: Vec2, dir: Vec2) -> f64 {
     t
 }
 
-/// Newton's answer for a pair: the midway point and, if it is inside both, the overlap depth
-/// along the normal through it.
-fn newton(pair: &Pair, start: (Vec2, f64)) -> Option<((Vec2, f64), Option<f64>)> {
-    let (x, mu, _) = midway(pair, start)?;
+/// Newton's answer for a pair.
+struct Answer {
+    /// The midway point and `mu`: where a persisting contact's next search starts.
+    midway: (Vec2, f64),
+    /// The overlap depth along the normal through the midway point, if it is inside both.
+    depth: Option<f64>,
+    iterations: u32,
+}
+
+fn newton(pair: &Pair, start: (Vec2, f64)) -> Option<Answer> {
+    let (x, mu, iterations) = midway(pair, start)?;
     let (fa, ga, _) = f_grad_hess(&pair.a, &pair.pose_a, x);
-    if fa >= 0.0 {
-        return Some(((x, mu), None));
-    }
-    let n = ga * (1.0 / ga.norm());
-    let depth =
-        to_boundary(&pair.a, &pair.pose_a, x, n) + to_boundary(&pair.b, &pair.pose_b, x, n * -1.0);
-    Some(((x, mu), Some(depth)))
+    let depth = (fa < 0.0).then(|| {
+        let n = ga * (1.0 / ga.norm());
+        to_boundary(&pair.a, &pair.pose_a, x, n) + to_boundary(&pair.b, &pair.pose_b, x, n * -1.0)
+    });
+    Some(Answer {
+        midway: (x, mu),
+        depth,
+        iterations,
+    })
 }
 
 fn cold_start(pair: &Pair) -> (Vec2, f64) {
@@ -196,7 +206,7 @@ fn references(c: &mut Criterion) {
         let warm: Vec<_> = pairs
             .iter()
             .zip(&starts)
-            .map(|(p, s)| newton(p, *s).map_or(*s, |(w, _)| w))
+            .map(|(p, s)| newton(p, *s).map_or(*s, |a| a.midway))
             .collect();
         let nudged_pairs: Vec<Pair> = pairs.iter().map(nudged).collect();
         let polys: Vec<_> = pairs
@@ -219,24 +229,22 @@ fn references(c: &mut Criterion) {
             let depth_of = |prec: &Precision| {
                 contact(&p.a, &p.pose_a, &p.b, &p.pose_b, prec)
                     .penetration
-                    .map(|q| q.a_push.norm().max(q.b_push.norm()))
+                    .map(|q| q.depth())
             };
             let n = newton(p, *s);
-            if let Some((x, mu, it)) = midway(p, *s) {
-                iterations.0 += it;
-                let _ = (x, mu);
-            } else {
-                newton_failed += 1;
+            match &n {
+                Some(a) => iterations.0 += a.iterations,
+                None => newton_failed += 1,
             }
-            if let Some((w, _)) = n
-                && let Some((_, _, it)) = midway(&nudged(p), w)
+            if let Some(a) = &n
+                && let Some(warm) = newton(&nudged(p), a.midway)
             {
-                iterations.1 += it;
+                iterations.1 += warm.iterations;
             }
             if let (Some(r), Some(o), Some(Some(nd)), Some(pd)) = (
                 depth_of(&fine),
                 depth_of(&precision),
-                n.map(|n| n.1),
+                n.map(|a| a.depth),
                 parry_depth(pa, pb),
             ) {
                 ours_err.push((o - r).abs() / r);

@@ -39,6 +39,13 @@ pub struct Penetration {
     pub b_push: Vec2,
 }
 
+impl Penetration {
+    /// How deep the overlap is: the longer of the two penetration vectors.
+    pub fn depth(&self) -> f64 {
+        self.a_push.norm().max(self.b_push.norm())
+    }
+}
+
 impl Contact {
     pub fn overlap(&self) -> bool {
         self.penetration.is_some()

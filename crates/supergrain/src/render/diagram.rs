@@ -45,7 +45,9 @@ fn blank(view: &View) -> Pixmap {
     pixmap
 }
 
-fn cell_style(a: Class, b: Class, last: bool) -> (Option<Rgba>, Option<(Rgba, f32)>) {
+/// How a quadtree cell is drawn, by its classes against the two shapes and whether it is at
+/// the last level: its fill, if any, and its outline (colour, width in pixels), if any.
+pub fn cell_style(a: Class, b: Class, last: bool) -> (Option<Rgba>, Option<(Rgba, f32)>) {
     if a == Class::Outside || b == Class::Outside {
         (None, Some(([0x9e, 0x9e, 0x9e, 255], 0.6)))
     } else if a == Class::Inside && b == Class::Inside {

@@ -180,10 +180,7 @@ impl World {
             let bb = body.bounding_box();
             let boxes =
                 boxes.get_or_insert_with(|| self.bodies.iter().map(Body::bounding_box).collect());
-            let taken = self.bodies.iter().zip(boxes.iter()).any(|(o, ob)| {
-                ob.intersects(&bb) && grain_contact(&self.settings, &body, o).overlap()
-            });
-            if taken {
+            if overlaps_any(&self.settings, &self.bodies, boxes, &body, &bb) {
                 k += 1;
             } else {
                 boxes.push(bb);
@@ -191,6 +188,19 @@ impl World {
                 self.pending.remove(k);
             }
         }
+    }
+
+    /// Whether `body` would overlap a grain of the world (the rule that keeps spawned grains
+    /// from appearing inside another).
+    pub fn overlaps_a_grain(&self, body: &Body) -> bool {
+        let boxes: Vec<Aabb> = self.bodies.iter().map(Body::bounding_box).collect();
+        overlaps_any(
+            &self.settings,
+            &self.bodies,
+            &boxes,
+            body,
+            &body.bounding_box(),
+        )
     }
 
     /// All grains have appeared.
@@ -268,12 +278,26 @@ impl World {
         let mut deepest = 0.0f64;
         self.contacts(|t| {
             deepest = deepest.max(match t {
-                Touch::Grains(_, _, p) => p.a_push.norm().max(p.b_push.norm()),
+                Touch::Grains(_, _, p) => p.depth(),
                 Touch::Wall(_, p) => p.push.norm(),
             })
         });
         deepest
     }
+}
+
+/// Whether `body` (its box `bb`) overlaps one of `bodies` (their boxes `boxes`).
+fn overlaps_any(
+    settings: &Settings,
+    bodies: &[Body],
+    boxes: &[Aabb],
+    body: &Body,
+    bb: &Aabb,
+) -> bool {
+    bodies
+        .iter()
+        .zip(boxes)
+        .any(|(o, ob)| ob.intersects(bb) && grain_contact(settings, body, o).overlap())
 }
 
 /// A contact found by [`World::contacts`].
