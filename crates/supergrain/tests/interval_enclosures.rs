@@ -16,7 +16,7 @@ use std::f64::consts::TAU;
 
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::interval::{
-    Exponent, ImplicitShape, Interval, PlacedSuperellipse, pow_down, pow_up,
+    Exponent, ImplicitShape, Interval, PlacedSuperellipse, Side, pow_down, pow_up,
 };
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
 use supergrain::subdivision::Precision;
@@ -235,6 +235,44 @@ fn superellipse_enclosure_contains_sampled_values() {
             "{sh:?} at {p:?}: {ep:?} misses {v} +- {err:e}"
         );
     }
+}
+
+/// The renderer's classification proves a side only where every sample is on it (against the
+/// reference's own error bound, no allowance), and proves at least what the enclosure proves:
+/// it computes the same ends, only fewer of them.
+#[test]
+fn classify_proves_only_sides_the_samples_confirm() {
+    let mut rng = Rng::new(47);
+    let mut proven = [0usize; 2];
+    for case in 0..3000 {
+        let sh = random_shape(&mut rng, case % 3 == 0);
+        let b = random_box(&mut rng, &sh);
+        let placed = sh.placed();
+        let side = placed.classify(&b);
+        let by_enclosure = Side::of(placed.enclose(&b));
+        if by_enclosure != Side::Boundary {
+            assert_eq!(side, by_enclosure, "{sh:?} over {b:?}");
+        }
+        if side == Side::Boundary {
+            continue;
+        }
+        proven[usize::from(side == Side::Outside)] += 1;
+        for x in coords(b.min.x, b.max.x, 17, sh.c[0]) {
+            for y in coords(b.min.y, b.max.y, 17, sh.c[1]) {
+                let (v, err) = sh.f_and_err([x, y]);
+                let holds = match side {
+                    Side::Inside => v - err < 0.0,
+                    _ => v + err > 0.0,
+                };
+                assert!(
+                    holds,
+                    "{sh:?} over {b:?}: {side:?}, but f({x}, {y}) = {v} +- {err:e}"
+                );
+            }
+        }
+    }
+    // Both proofs were exercised, many times.
+    assert!(proven[0] > 100 && proven[1] > 100, "{proven:?}");
 }
 
 #[test]

@@ -10,7 +10,7 @@
 mod implicit;
 mod pow;
 
-pub use implicit::{ImplicitShape, Minima, PlacedSuperellipse};
+pub use implicit::{ImplicitShape, Minima, PlacedSuperellipse, Side};
 pub use pow::{Exponent, pow_down, pow_up};
 
 /// A number no smaller than `x + ulp(x)` (and so than the exact result `x` was rounded from):
