@@ -39,6 +39,10 @@ pub struct ScalingArgs {
     /// Timed steps; the median is reported.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
+    /// Thread counts for the strip-parallel runs (each scene also runs in the paper's order on
+    /// one thread); default: 1 and every core.
+    #[arg(long, value_delimiter = ',')]
+    threads: Vec<usize>,
     /// The largest scene also run with all pairs (their cost grows with the square).
     #[arg(long, default_value_t = 10_000)]
     all_pairs_max: usize,
@@ -67,6 +71,15 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
     let heap = dump
         .to_world()
         .map_err(|e| anyhow::anyhow!("the built-in settled heap: {e}"))?;
+    let threads = if args.threads.is_empty() {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        if cores > 1 { vec![1, cores] } else { vec![1] }
+    } else {
+        args.threads.clone()
+    };
+    if threads.contains(&0) {
+        anyhow::bail!("--threads: a thread count must be at least 1");
+    }
     let mut cases = Vec::new();
     for &n in &args.copies {
         let mut kinds = vec![Kind::Grid];
@@ -77,6 +90,7 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
             &heap,
             &[n],
             &kinds,
+            &threads,
             args.warmup,
             args.steps as usize,
         ));
@@ -87,7 +101,8 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
             .iter()
             .map(|c| {
                 serde_json::json!({
-                    "grains": c.grains, "broad_phase": c.broad_phase, "ms_per_step": c.ms_per_step,
+                    "grains": c.grains, "broad_phase": c.broad_phase, "threads": c.threads,
+                    "strips": c.strips, "ms_per_step": c.ms_per_step,
                     "us_per_grain_step": c.us_per_grain_step, "tests_per_step": c.tests_per_step,
                     "peak_rss_kib": peak,
                 })
@@ -102,20 +117,39 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
         );
         return Ok(ExitCode::SUCCESS);
     }
-    let base = cases.first().map_or(f64::NAN, |c| c.us_per_grain_step);
+    // Each case against the smallest scene run the same way.
+    let base = |c: &supergrain::bench::ScalingResult| {
+        cases
+            .iter()
+            .find(|b| {
+                b.broad_phase == c.broad_phase
+                    && b.threads == c.threads
+                    && (b.strips == 0) == (c.strips == 0)
+            })
+            .map_or(f64::NAN, |b| c.us_per_grain_step / b.us_per_grain_step)
+    };
     println!(
-        "{:>8} {:<10} {:>12} {:>16} {:>14} {:>12}",
-        "grains", "broad", "ms/step", "us/grain-step", "tests/step", "x 1,000 grid"
+        "{:>8} {:<10} {:>7} {:>7} {:>12} {:>16} {:>14} {:>10}",
+        "grains",
+        "broad",
+        "strips",
+        "threads",
+        "ms/step",
+        "us/grain-step",
+        "tests/step",
+        "x smallest"
     );
     for c in &cases {
         println!(
-            "{:>8} {:<10} {:>12.1} {:>16.2} {:>14.0} {:>12.2}",
+            "{:>8} {:<10} {:>7} {:>7} {:>12.1} {:>16.2} {:>14.0} {:>10.2}",
             c.grains,
             c.broad_phase,
+            c.strips,
+            c.threads,
             c.ms_per_step,
             c.us_per_grain_step,
             c.tests_per_step,
-            c.us_per_grain_step / base
+            base(c)
         );
     }
     if let Some(kib) = peak {

@@ -1,6 +1,6 @@
 //! `supergrain run`: pour grains into the box from a scene file, a preset or a dump.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -35,7 +35,7 @@ Examples:
   supergrain run examples/scenes/pour-1000.toml --until-rest --steps 20000 --svg pour.svg
 
 The presets are the paper's four scenes (Figs. 10-13): circles, ellipses, squircles, mixed.
-A progress bar shows on a terminal; a summary is printed at the end.")]
+A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end.")]
 pub struct Args {
     /// A scene file (TOML; see examples/scenes/).
     #[arg(value_name = "SCENE.toml", conflicts_with_all = ["preset", "resume"])]
@@ -130,7 +130,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
         ProgressStyle::with_template("{bar:40} {pos}/{len} steps, {per_sec}, eta {eta} {msg}")
             .expect("a valid template"),
     );
+    let log_lines = !std::io::stderr().is_terminal();
     let start = Instant::now();
+    let (mut last_shown, mut last_logged) = (start, start);
     let mut contacts = 0u64;
     let mut calm = 0u64;
     let mut done = 0u64;
@@ -159,13 +161,25 @@ pub fn run(args: Args) -> Result<ExitCode> {
         } else {
             0
         };
-        if k % 50 == 0 {
-            bar.set_position(k);
-            bar.set_message(format!(
+        if k % 50 == 0 || last_shown.elapsed().as_secs_f64() >= 1.0 {
+            last_shown = Instant::now();
+            let state = format!(
                 "{} grains, {} asleep, fastest {fastest:.3}",
                 world.bodies.len(),
                 world.asleep()
-            ));
+            );
+            if !log_lines {
+                bar.set_position(k);
+                bar.set_message(state);
+            } else if last_logged.elapsed().as_secs_f64() >= LOG_SECONDS && !args.quiet {
+                // No terminal (a log file, a batch job): a line now and then instead of a bar.
+                last_logged = Instant::now();
+                let t = start.elapsed().as_secs_f64();
+                eprintln!(
+                    "step {k}/{steps} at {t:.0} s ({:.1} steps/s): {state}",
+                    k as f64 / t.max(1e-9)
+                );
+            }
         }
         if args.until_rest && calm >= REST_STEPS {
             break;
@@ -224,6 +238,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
     }
     Ok(ExitCode::SUCCESS)
 }
+
+/// Seconds between two progress lines when stderr is not a terminal.
+const LOG_SECONDS: f64 = 30.0;
 
 /// Steps in a row under --rest-speed that count as rest.
 const REST_STEPS: u64 = 100;

@@ -221,6 +221,7 @@ impl Sim {
             walls: world.walls,
             top: world.top,
             spawn_interval: 1,
+            spawn_count: 1,
             settings: world.settings,
             groups: Vec::new(),
         };

@@ -370,6 +370,87 @@ fn same_scene_and_seed_give_identical_dumps_and_other_seeds_do_not() {
     assert_ne!(a, run(&scene));
 }
 
+/// A box 30 wide cut into ten strips 3 wide, one grain falling per step.
+fn wide_scene(kinds: Vec<(u32, u8)>, shock: bool) -> Scene {
+    let mut scene = random_scene(11, kinds, 30.0);
+    scene.spawn_interval = 1;
+    scene.top = 4.0;
+    scene.settings.strip_width = 3.0;
+    scene.settings.shock_propagation = shock;
+    scene
+}
+
+fn run_on_threads(scene: &Scene, threads: usize, steps: u64) -> String {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| {
+        let mut w = World::new(scene);
+        while w.step < steps {
+            w.step();
+        }
+        dump_text(&w)
+    })
+}
+
+/// Issue 6: all cores, and the same result bit for bit on one thread or several, with the
+/// closing sweeps and with shock propagation. And the strips are in effect: the same scene in
+/// the paper's order (one strip) ends elsewhere.
+#[test]
+fn strips_give_the_same_result_on_one_thread_and_many() {
+    for shock in [false, true] {
+        // Every kind, stars included.
+        let scene = wide_scene(vec![(30, 0), (25, 1), (25, 2), (20, 3)], shock);
+        let mut world = World::new(&scene);
+        while world.step < 100 {
+            world.step();
+        }
+        let strips =
+            supergrain::solver::strips::Strips::new(&world.bodies, &world.walls, &world.settings)
+                .expect("a box of ten strips is cut");
+        assert_eq!(strips.count(), 10);
+        let one = run_on_threads(&scene, 1, 200);
+        assert_eq!(
+            one,
+            run_on_threads(&scene, 2, 200),
+            "shock {shock}: 1 vs 2 threads"
+        );
+        assert_eq!(
+            one,
+            run_on_threads(&scene, 3, 200),
+            "shock {shock}: 1 vs 3 threads"
+        );
+        let mut paper = scene.clone();
+        paper.settings.strip_width = 0.0;
+        assert_ne!(
+            one,
+            run_on_threads(&paper, 2, 200),
+            "shock {shock}: strips not in effect"
+        );
+    }
+}
+
+/// Projected strip by strip, a wide pour settles: in the box, no overlap beyond the bar, at
+/// rest. (Not `assert_supported`: in a heap one or two grains deep on a flat floor, a few grains
+/// come to sleep perched on two others and roll off when woken, about 0.1 in 100 steps, in the
+/// paper's order just as strip by strip.)
+#[test]
+fn a_wide_pour_settles_strip_by_strip() {
+    let world = run_to_rest(
+        &wide_scene(vec![(24, 0), (18, 1), (18, 2)], false),
+        REST,
+        4000,
+    );
+    assert!(
+        world.max_speed() < REST,
+        "not at rest after {} steps (fastest {})",
+        world.step,
+        world.max_speed()
+    );
+    assert_settled(&world, "wide pour", true, false);
+}
+
 #[test]
 fn a_resumed_run_ends_where_the_uninterrupted_one_does() {
     let mut scene = Scene::preset("squircles").unwrap();
@@ -405,8 +486,42 @@ fn every_example_scene_file_parses_and_the_preset_files_are_the_presets() {
             "{name}"
         );
     }
-    let text = std::fs::read_to_string("../../examples/scenes/pour-1000.toml").unwrap();
-    assert!(Scene::from_toml(&text).unwrap().grain_count() >= 1000);
+    for (name, grains) in [
+        ("pour-1000", 1000),
+        ("pour-10k", 10_000),
+        ("pour-100k", 100_000),
+    ] {
+        let text = std::fs::read_to_string(format!("../../examples/scenes/{name}.toml")).unwrap();
+        let scene = Scene::from_toml(&text).unwrap();
+        assert_eq!(scene.grain_count(), grains, "{name}");
+        // The default strip width: eight times the largest group's corner of its largest
+        // semi-axes, here the pebbles' (0.35, 0.35), not the rice's (0.45, 0.18) nor the
+        // blocks' (0.3, 0.35).
+        let width = 8.0 * 0.35f64.hypot(0.35);
+        assert!((scene.settings.strip_width - width).abs() < 1e-12, "{name}");
+    }
+}
+
+/// `[spawn] count`: that many grains due at each spawn, every `interval` steps, each at its own
+/// place; the default is one.
+#[test]
+fn grains_appear_count_at_a_time() {
+    let wide = GOOD
+        .replace("left = -4.0", "left = -40.0")
+        .replace("right = 4.0", "right = 40.0");
+    let text = format!(
+        "{}\n[spawn]\ninterval = 3\ncount = 4\n",
+        wide.replace("count = 3", "count = 10")
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let mut world = World::new(&scene);
+    let due: Vec<u64> = world.pending.iter().map(|p| p.due).collect();
+    assert_eq!(due, [0, 0, 0, 0, 3, 3, 3, 3, 6, 6]);
+    world.step();
+    assert_eq!(world.bodies.len(), 4, "four places free in a box 80 wide");
+    let one = Scene::from_toml(&wide.replace("count = 3", "count = 10")).unwrap();
+    let due: Vec<u64> = World::new(&one).pending.iter().map(|p| p.due).collect();
+    assert_eq!(due, (0..10).map(|k| k * 20).collect::<Vec<_>>());
 }
 
 fn error_of(text: &str) -> String {
@@ -438,6 +553,12 @@ fn scene_errors_name_the_line_and_the_key() {
     assert!(e.contains("line 12") && e.contains("damping"), "{e}");
     let depth = format!("{GOOD}\n[solver]\ndepth = 99\n");
     assert!(error_of(&depth).contains("depth"));
+    let no_grains = format!("{GOOD}\n[spawn]\ninterval = 2\ncount = 0\n");
+    let e = error_of(&no_grains);
+    assert!(e.contains("line 13") && e.contains("count"), "{e}");
+    let strips = format!("{GOOD}\n[solver]\nstrip_width = -1.0\n");
+    let e = error_of(&strips);
+    assert!(e.contains("line 12") && e.contains("-1"), "{e}");
     let both = GOOD.replace("radius = 0.5", "radius = 0.5\nsemi_axes = [1.0, 2.0]");
     assert!(error_of(&both).contains("either"));
     let analytic = format!(

@@ -390,6 +390,10 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
 pub struct ScalingResult {
     pub grains: usize,
     pub broad_phase: &'static str,
+    /// Threads in the pool the step ran in.
+    pub threads: usize,
+    /// Strips the box was cut into ([`crate::solver::strips`]); 0 for the paper's order.
+    pub strips: usize,
     /// Median milliseconds per step.
     pub ms_per_step: f64,
     /// `ms_per_step` per grain, in microseconds.
@@ -430,41 +434,74 @@ pub fn tiled(
 }
 
 /// The cost of a step of `heap` tiled to each size in `copies`, with each broad phase in
-/// `kinds`: `warmup` steps untimed, then the median of `steps` timed ones.
+/// `kinds`: `warmup` steps untimed, then the median of `steps` timed ones. Each scene runs in
+/// the paper's order on one thread, and, with the grid, cut into strips
+/// ([`crate::solver::strips`], the default width for its grains) in a pool of each size in
+/// `threads`. The strip runs give the same steps whatever the pool, so their times compare.
 pub fn scaling_cases(
     heap: &crate::world::World,
     copies: &[usize],
     kinds: &[crate::broad_phase::Kind],
+    threads: &[usize],
     warmup: usize,
     steps: usize,
 ) -> Vec<ScalingResult> {
     use crate::broad_phase::Kind;
+    let strip_width = crate::solver::strips::WIDTH_IN_RADII
+        * heap
+            .bodies
+            .iter()
+            .map(|b| b.shape.bounding_radius())
+            .fold(0.0, f64::max);
     let mut out = Vec::new();
     for &n in copies {
         for &kind in kinds {
-            let mut world = tiled(heap, n, kind);
-            for _ in 0..warmup {
-                world.step();
+            let mut runs = vec![(1, 0.0)];
+            if kind == Kind::Grid {
+                runs.extend(threads.iter().map(|&t| (t, strip_width)));
             }
-            let mut times = Vec::with_capacity(steps);
-            let mut tests = 0usize;
-            for _ in 0..steps {
-                let start = Instant::now();
-                tests += world.step().tests;
-                times.push(start.elapsed().as_secs_f64() * 1e3);
+            for (t, width) in runs {
+                let mut world = tiled(heap, n, kind);
+                world.settings.strip_width = width;
+                let strips = crate::solver::strips::Strips::new(
+                    &world.bodies,
+                    &world.walls,
+                    &world.settings,
+                )
+                .map_or(0, |s| s.count());
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(t.max(1))
+                    .build()
+                    .expect("a thread pool");
+                let (times, tests) = pool.install(|| {
+                    for _ in 0..warmup {
+                        world.step();
+                    }
+                    let mut times = Vec::with_capacity(steps);
+                    let mut tests = 0usize;
+                    for _ in 0..steps {
+                        let start = Instant::now();
+                        tests += world.step().tests;
+                        times.push(start.elapsed().as_secs_f64() * 1e3);
+                    }
+                    (times, tests)
+                });
+                let mut times = times;
+                times.sort_by(f64::total_cmp);
+                let ms = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
+                out.push(ScalingResult {
+                    grains: world.bodies.len(),
+                    broad_phase: match kind {
+                        Kind::Grid => "grid",
+                        Kind::AllPairs => "all-pairs",
+                    },
+                    threads: t.max(1),
+                    strips,
+                    ms_per_step: ms,
+                    us_per_grain_step: ms * 1e3 / world.bodies.len().max(1) as f64,
+                    tests_per_step: tests as f64 / steps.max(1) as f64,
+                });
             }
-            times.sort_by(f64::total_cmp);
-            let ms = times.get(times.len() / 2).copied().unwrap_or(f64::NAN);
-            out.push(ScalingResult {
-                grains: world.bodies.len(),
-                broad_phase: match kind {
-                    Kind::Grid => "grid",
-                    Kind::AllPairs => "all-pairs",
-                },
-                ms_per_step: ms,
-                us_per_grain_step: ms * 1e3 / world.bodies.len().max(1) as f64,
-                tests_per_step: tests as f64 / steps.max(1) as f64,
-            });
         }
     }
     out

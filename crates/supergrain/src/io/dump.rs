@@ -86,6 +86,9 @@ pub struct SolverJson {
     /// Absent in dumps older than shock propagation: the closing sweeps they were run with.
     #[serde(default)]
     pub shock_propagation: bool,
+    /// Absent in dumps older than strips: 0, the paper's order.
+    #[serde(default)]
+    pub strip_width: f64,
     pub depth: u32,
     pub eps: f64,
     pub rotation: String,
@@ -170,6 +173,7 @@ impl Dump {
                 sleep_radius: s.sleep_radius,
                 sleep_steps: s.sleep_steps,
                 shock_propagation: s.shock_propagation,
+                strip_width: s.strip_width,
                 depth: s.precision.depth(),
                 eps: s.precision.eps(),
                 rotation: match s.rotation {
@@ -232,6 +236,7 @@ impl Dump {
                 sleep_radius: non_negative("sleep_radius", s.sleep_radius)?,
                 sleep_steps: s.sleep_steps,
                 shock_propagation: s.shock_propagation,
+                strip_width: non_negative("strip_width", s.strip_width)?,
                 precision: Precision::new(s.depth, s.eps)
                     .map_err(|e| DumpError::Solver(e.to_string()))?,
                 rotation: match s.rotation.as_str() {

@@ -8,6 +8,7 @@
 //! over all grains (or, for deep heaps, one shock-propagation sweep from the floor up), and
 //! deeper quadtrees for walls and for pairs with a star.
 mod response;
+pub mod strips;
 
 pub use response::{project, safe_push};
 
@@ -147,6 +148,10 @@ pub struct Settings {
     /// Which pairs are tested: a grid or all pairs (same pairs, same results; see
     /// [`crate::broad_phase`]).
     pub broad_phase: crate::broad_phase::Kind,
+    /// Width of the vertical strips a wide box is cut into so that all cores project at once
+    /// (see [`strips`]); 0, or a box narrower than [`strips::MIN_STRIPS`] strips, keeps the
+    /// paper's order, one grain after another. Results never depend on the number of threads.
+    pub strip_width: f64,
 }
 
 impl Default for Settings {
@@ -164,6 +169,7 @@ impl Default for Settings {
             rotation: Rotation::Projection,
             narrow_phase: NarrowPhase::Interval,
             broad_phase: crate::broad_phase::Kind::Grid,
+            strip_width: 0.0,
         }
     }
 }
@@ -253,7 +259,9 @@ pub struct Workspace {
 }
 
 /// One step of the paper's loop: for each grain in turn, Verlet, then projection of its
-/// collisions until none is left or `max_iterations` passes are done.
+/// collisions until none is left or `max_iterations` passes are done. In a box wide enough for
+/// [`Settings::strip_width`], the grains go strip by strip, strips far apart at once on all cores
+/// ([`strips`]).
 pub fn step<B: BroadPhase>(
     bodies: &mut [Body],
     walls: &Walls,
@@ -262,48 +270,46 @@ pub fn step<B: BroadPhase>(
     work: &mut Workspace,
 ) -> StepStats {
     let mut stats = StepStats::default();
-    let walls = walls.half_planes();
+    let half_planes = walls.half_planes();
     let ctx = Context {
-        walls: &walls,
+        walls: &half_planes,
         settings,
     };
     work.boxes.clear();
     work.boxes.extend(bodies.iter().map(Body::bounding_box));
     work.start.clear();
     work.start.extend(bodies.iter().map(|b| b.center));
-    broad.rebuild(&work.boxes);
-    for i in 0..bodies.len() {
-        if bodies[i].asleep(settings) {
-            continue;
-        }
-        verlet(&mut bodies[i], settings);
-        work.boxes[i] = bodies[i].bounding_box();
-        broad.update(i, &work.boxes[i]);
-        for pass in 0..settings.max_iterations {
-            let hit = resolve(i, bodies, &ctx, broad, work, &mut stats, None);
-            if pass == 0 {
-                stats.contacts += hit;
-            }
-            if hit == 0 {
-                break;
-            }
-        }
-    }
-    if settings.shock_propagation {
-        shock_sweep(bodies, &ctx, broad, work, &mut stats);
+    if let Some(strips) = strips::Strips::new(bodies, walls, settings) {
+        strips.step(bodies, &ctx, &mut stats);
+        work.boxes.clear();
+        work.boxes.extend(bodies.iter().map(Body::bounding_box));
+        broad.rebuild(&work.boxes);
     } else {
-        // The closing sweeps this replaces: grains handled late in the step push earlier ones
-        // back into their neighbours; sweeping everything once or twice more leaves the step
-        // with (nearly) no overlap instead of the last pushes'.
-        for _ in 0..CLOSING_SWEEPS {
-            let mut hit = 0;
-            for i in 0..bodies.len() {
-                if !bodies[i].asleep(settings) {
-                    hit += resolve(i, bodies, &ctx, broad, work, &mut stats, None);
-                }
+        broad.rebuild(&work.boxes);
+        for i in 0..bodies.len() {
+            settle(i, bodies, &ctx, broad, work, &mut stats);
+        }
+        if settings.shock_propagation {
+            let mut order = std::mem::take(&mut work.order);
+            let mut rank = std::mem::take(&mut work.rank);
+            shock_order(bodies, &mut order, &mut rank);
+            for &i in &order {
+                shock_grain(i, bodies, &ctx, broad, work, &mut stats, &rank);
             }
-            if hit == 0 {
-                break;
+            work.order = order;
+            work.rank = rank;
+        } else {
+            // The closing sweeps this replaces: grains handled late in the step push earlier
+            // ones back into their neighbours; sweeping everything once or twice more leaves the
+            // step with (nearly) no overlap instead of the last pushes'.
+            for _ in 0..CLOSING_SWEEPS {
+                let mut hit = 0;
+                for i in 0..bodies.len() {
+                    hit += sweep_grain(i, bodies, &ctx, broad, work, &mut stats);
+                }
+                if hit == 0 {
+                    break;
+                }
             }
         }
     }
@@ -311,6 +317,48 @@ pub fn step<B: BroadPhase>(
         update_sleep(bodies, settings, broad, work);
     }
     stats
+}
+
+/// Grain `i`'s turn in the step: Verlet, then projection passes until none finds a contact.
+fn settle<B: BroadPhase>(
+    i: usize,
+    bodies: &mut [Body],
+    ctx: &Context,
+    broad: &mut B,
+    work: &mut Workspace,
+    stats: &mut StepStats,
+) {
+    if bodies[i].asleep(ctx.settings) {
+        return;
+    }
+    verlet(&mut bodies[i], ctx.settings);
+    work.boxes[i] = bodies[i].bounding_box();
+    broad.update(i, &work.boxes[i]);
+    for pass in 0..ctx.settings.max_iterations {
+        let hit = resolve(i, bodies, ctx, broad, work, stats, None);
+        if pass == 0 {
+            stats.contacts += hit;
+        }
+        if hit == 0 {
+            break;
+        }
+    }
+}
+
+/// Grain `i`'s pass in a closing sweep; how many contacts it corrected.
+fn sweep_grain<B: BroadPhase>(
+    i: usize,
+    bodies: &mut [Body],
+    ctx: &Context,
+    broad: &mut B,
+    work: &mut Workspace,
+    stats: &mut StepStats,
+) -> usize {
+    if bodies[i].asleep(ctx.settings) {
+        0
+    } else {
+        resolve(i, bodies, ctx, broad, work, stats, None)
+    }
 }
 
 /// Counts calm steps, and wakes the sleepers near a grain that moved far this step (the grain
@@ -409,26 +457,8 @@ struct Context<'a> {
     settings: &'a Settings,
 }
 
-/// Shock propagation (Guendelman, Bridson and Fedkiw, "Nonconvex rigid bodies with stacking",
-/// 2003), in the projection setting: the grains, lowest centre first, are each moved out of the
-/// walls and of every grain below them, which no longer move. A step thus ends with every
-/// contact resolved once, the upper grain taking the whole correction, so the weight of a deep
-/// heap no longer squeezes its bottom layers: the grain-by-grain passes alone leave twenty
-/// layers overlapping and trembling for ever.
-///
-/// And, as in XPBD's velocity pass, this correction is inelastic: it cancels the grain's
-/// velocity into its supports but creates none away from them. Otherwise a grain the sweep lifts
-/// by `d` leaves with speed `d / h`, rises, falls back and is lifted again.
-fn shock_sweep<B: BroadPhase>(
-    bodies: &mut [Body],
-    ctx: &Context,
-    broad: &mut B,
-    work: &mut Workspace,
-    stats: &mut StepStats,
-) {
-    let settings = ctx.settings;
-    let mut order = std::mem::take(&mut work.order);
-    let mut rank = std::mem::take(&mut work.rank);
+/// The shock sweep's order, lowest centre first (ties by index), and each grain's rank in it.
+fn shock_order(bodies: &[Body], order: &mut Vec<usize>, rank: &mut Vec<usize>) {
     order.clear();
     order.extend(0..bodies.len());
     order.sort_unstable_by(|&a, &b| {
@@ -443,25 +473,44 @@ fn shock_sweep<B: BroadPhase>(
     for (r, &i) in order.iter().enumerate() {
         rank[i] = r;
     }
-    for &i in &order {
-        if bodies[i].asleep(settings) {
-            continue;
-        }
-        let before = bodies[i].center;
-        for _ in 0..settings.max_iterations {
-            if resolve(i, bodies, ctx, broad, work, stats, Some(&rank)) == 0 {
-                break;
-            }
-        }
-        let b = &mut bodies[i];
-        if let Some(n) = (b.center - before).direction() {
-            let v = before - b.previous_center;
-            let kept = v - n * v.dot(n).min(0.0);
-            b.previous_center = b.center - kept;
+}
+
+/// Shock propagation (Guendelman, Bridson and Fedkiw, "Nonconvex rigid bodies with stacking",
+/// 2003), in the projection setting: the grains, lowest centre first, are each moved out of the
+/// walls and of every grain below them, which no longer move. A step thus ends with every
+/// contact resolved once, the upper grain taking the whole correction, so the weight of a deep
+/// heap no longer squeezes its bottom layers: the grain-by-grain passes alone leave twenty
+/// layers overlapping and trembling for ever.
+///
+/// And, as in XPBD's velocity pass, this correction is inelastic: it cancels the grain's
+/// velocity into its supports but creates none away from them. Otherwise a grain the sweep lifts
+/// by `d` leaves with speed `d / h`, rises, falls back and is lifted again.
+///
+/// This is grain `i`'s turn in it: out of the walls and of every grain ranked below it.
+fn shock_grain<B: BroadPhase>(
+    i: usize,
+    bodies: &mut [Body],
+    ctx: &Context,
+    broad: &mut B,
+    work: &mut Workspace,
+    stats: &mut StepStats,
+    rank: &[usize],
+) {
+    if bodies[i].asleep(ctx.settings) {
+        return;
+    }
+    let before = bodies[i].center;
+    for _ in 0..ctx.settings.max_iterations {
+        if resolve(i, bodies, ctx, broad, work, stats, Some(rank)) == 0 {
+            break;
         }
     }
-    work.order = order;
-    work.rank = rank;
+    let b = &mut bodies[i];
+    if let Some(n) = (b.center - before).direction() {
+        let v = before - b.previous_center;
+        let kept = v - n * v.dot(n).min(0.0);
+        b.previous_center = b.center - kept;
+    }
 }
 
 /// Relaxation sweeps over all grains at the end of a step.

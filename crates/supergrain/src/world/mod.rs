@@ -103,7 +103,8 @@ impl World {
                     shape,
                     x,
                     angle,
-                    due: k as u64 * u64::from(scene.spawn_interval),
+                    due: k as u64 / u64::from(scene.spawn_count.max(1))
+                        * u64::from(scene.spawn_interval),
                     group,
                 }
             })

@@ -52,6 +52,8 @@ pub struct Scene {
     pub top: f64,
     /// Steps between two spawns.
     pub spawn_interval: u32,
+    /// Grains due at each spawn (each at its own random place; one whose place is taken waits).
+    pub spawn_count: u32,
     pub settings: Settings,
     pub groups: Vec<Group>,
 }
@@ -121,7 +123,11 @@ impl Scene {
             },
             top: 10.0,
             spawn_interval: 20,
-            settings: Settings::default(),
+            spawn_count: 1,
+            settings: Settings {
+                strip_width: auto_strip_width(std::slice::from_ref(&g)),
+                ..Settings::default()
+            },
             groups: vec![g],
         })
     }
@@ -179,7 +185,7 @@ impl Scene {
                 format!("solver: damping must be in [0, 1), got {}", d.get_ref()),
             ));
         }
-        let settings = Settings {
+        let mut settings = Settings {
             step: s.step.map_or(defaults.step, |v| v.0),
             damping: s
                 .damping
@@ -203,6 +209,8 @@ impl Scene {
                 Some(BroadPhaseSpec::Grid) => BroadPhaseKind::Grid,
                 Some(BroadPhaseSpec::AllPairs) => BroadPhaseKind::AllPairs,
             },
+            // Set from the groups below unless given.
+            strip_width: s.strip_width.map_or(f64::NAN, |v| v.0),
         };
         let mut groups = Vec::new();
         for (k, g) in file.groups.iter().enumerate() {
@@ -242,6 +250,16 @@ impl Scene {
                 angle: g.angle.map_or(Range::new(0.0, TAU), |a| a.0),
             });
         }
+        let spawn_count = match file.spawn.as_ref().and_then(|s| s.count.as_ref()) {
+            None => 1,
+            Some(c) if *c.get_ref() == 0 => {
+                return Err(invalid(c.span(), "spawn: count must be at least 1".into()));
+            }
+            Some(c) => *c.get_ref(),
+        };
+        if settings.strip_width.is_nan() {
+            settings.strip_width = auto_strip_width(&groups);
+        }
         let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
@@ -251,7 +269,8 @@ impl Scene {
                 floor: b.floor.get_ref().0,
             },
             top: b.top.get_ref().0,
-            spawn_interval: file.spawn.map_or(20, |s| s.interval),
+            spawn_interval: file.spawn.as_ref().map_or(20, |s| s.interval),
+            spawn_count,
             settings,
             groups,
         };
@@ -278,6 +297,16 @@ impl Scene {
     }
 }
 
+/// The default [`Settings::strip_width`]: [`crate::solver::strips::WIDTH_IN_RADII`] times the
+/// largest bounding radius the groups can draw (the corner of the largest semi-axes' box).
+pub fn auto_strip_width(groups: &[Group]) -> f64 {
+    let radius = groups
+        .iter()
+        .map(|g| g.semi_axes[0].hi.hypot(g.semi_axes[1].hi))
+        .fold(0.0, f64::max);
+    crate::solver::strips::WIDTH_IN_RADII * radius
+}
+
 // ---- The file format ----
 
 #[derive(Deserialize)]
@@ -302,10 +331,11 @@ struct BoxSpec {
     top: toml::Spanned<Finite>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 struct SpawnSpec {
     interval: u32,
+    count: Option<toml::Spanned<u32>>,
 }
 
 #[derive(Deserialize, Default)]
@@ -319,6 +349,7 @@ struct SolverSpec {
     sleep_radius: Option<NonNegative>,
     sleep_steps: Option<u32>,
     shock_propagation: Option<bool>,
+    strip_width: Option<NonNegative>,
     depth: Option<toml::Spanned<u32>>,
     eps: Option<NonNegative>,
     rotation: Option<RotationSpec>,
