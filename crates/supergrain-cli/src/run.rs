@@ -3,6 +3,8 @@
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
@@ -35,7 +37,7 @@ Examples:
   supergrain run examples/scenes/pour-1000.toml --until-rest --steps 20000 --svg pour.svg
 
 The presets are the paper's four scenes (Figs. 10-13): circles, ellipses, squircles, mixed.
-A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end.")]
+A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end. Ctrl-C stops after the current step and still writes\nevery output (exit code 130).")]
 pub struct Args {
     /// A scene file (TOML; see examples/scenes/).
     #[arg(value_name = "SCENE.toml", conflicts_with_all = ["preset", "resume"])]
@@ -148,7 +150,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
         Ok(())
     };
     frame(&world, trajectory.as_mut())?;
+    let stop = stop_on_interrupt();
+    let mut interrupted = false;
     for k in 1..=steps {
+        if stop.load(Ordering::SeqCst) {
+            interrupted = true;
+            break;
+        }
         let stats = world.step();
         done = k;
         contacts += stats.contacts as u64;
@@ -185,7 +193,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             break;
         }
     }
-    if args.until_rest && done % args.every != 0 {
+    if (args.until_rest || interrupted) && done % args.every != 0 {
         frame(&world, trajectory.as_mut())?;
     }
     bar.finish_and_clear();
@@ -223,7 +231,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
             world.deepest_penetration(),
             world.max_speed(),
         );
-        if args.until_rest {
+        if interrupted {
+            eprintln!(
+                "interrupted after step {}: the outputs hold that state (--resume a dump to go on)",
+                world.step
+            );
+        } else if args.until_rest {
             if calm >= REST_STEPS {
                 eprintln!(
                     "at rest at step {}: no grain faster than {} for {REST_STEPS} steps",
@@ -236,7 +249,30 @@ pub fn run(args: Args) -> Result<ExitCode> {
             }
         }
     }
-    Ok(ExitCode::SUCCESS)
+    // The shell's code for a run stopped by SIGINT, so that scripts see it did not finish.
+    Ok(if interrupted {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// A flag raised by Ctrl-C (or SIGTERM, SIGHUP): the run stops after the current step and
+/// writes its outputs, so hours of a long run are not lost. A second signal ends the process
+/// at once. Without a handler (one could not be installed) the flag simply never rises.
+fn stop_on_interrupt() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let raised = Arc::clone(&stop);
+    let installed = ctrlc::set_handler(move || {
+        if raised.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+        eprintln!("\nstopping after this step (press Ctrl-C again to quit at once)");
+    });
+    if let Err(e) = installed {
+        eprintln!("warning: Ctrl-C will end the run without writing its outputs ({e})");
+    }
+    stop
 }
 
 /// Seconds between two progress lines when stderr is not a terminal.

@@ -418,6 +418,55 @@ fn threads_change_nothing_in_the_result() {
     assert!(stderr(&o).contains("--threads"), "{}", stderr(&o));
 }
 
+/// Ctrl-C (SIGINT) on a long run: it stops after the current step, writes every output it was
+/// asked for with that state, says so, and exits with 130; the dump resumes.
+#[test]
+fn an_interrupted_run_keeps_its_work() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let dump = dir.path().join("state.json");
+    let picture = dir.path().join("state.png");
+    let child = supergrain()
+        .args([
+            "run",
+            "--preset",
+            "mixed",
+            "--steps",
+            "1000000",
+            "--dump",
+            p(&dump),
+            "--png",
+            p(&picture),
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start supergrain");
+    // Long enough for the handler to be installed and some steps to run.
+    std::thread::sleep(Duration::from_millis(1500));
+    // SAFETY: sends SIGINT to the child we started; no memory is involved.
+    let sent = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    assert_eq!(sent, 0, "SIGINT not sent");
+    let out = wait_at_most(child, Duration::from_secs(60)).expect("it stops soon after Ctrl-C");
+    assert_eq!(out.status.code(), Some(130), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("interrupted after step"),
+        "{}",
+        stderr(&out)
+    );
+    let state = read_json(&dump);
+    let step = state["step"].as_u64().expect("a step");
+    assert!(step > 0 && step < 1_000_000, "step {step}");
+    assert!(std::fs::metadata(&picture).expect("the picture").len() > 0);
+    // Nothing half-written beside them, and the dump goes on.
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+    ok(&sg(&["run", "--resume", p(&dump), "--steps", "5", "-q"]));
+}
+
 #[test]
 fn example_scene_files_equal_their_presets() {
     // Each examples/scenes/<preset>.toml says it is identical to `--preset <preset>`.
