@@ -334,6 +334,5 @@ pub fn paint_shape_with<S: ImplicitShape>(
         }
     });
 }
-
-/// Boundary blocks this many pixels wide or less are decided pixel by pixel by the tangent line.
+/// Boundary blocks this many pixels wide or less are decided by one tangent line, pixel by pixel.
 const GRADIENT_BLOCK: u32 = 2;

@@ -275,17 +275,14 @@ pub fn step<B: BroadPhase>(
         walls: &half_planes,
         settings,
     };
-    work.boxes.clear();
-    work.boxes.extend(bodies.iter().map(Body::bounding_box));
     work.start.clear();
     work.start.extend(bodies.iter().map(|b| b.center));
     if let Some(strips) = strips::Strips::new(bodies, walls, settings) {
         strips.step(bodies, &ctx, &mut stats);
-        work.boxes.clear();
-        work.boxes.extend(bodies.iter().map(Body::bounding_box));
-        broad.rebuild(&work.boxes);
+        // Each strip kept its own boxes; sleeping reads the final ones.
+        rebuild_boxes(bodies, broad, work);
     } else {
-        broad.rebuild(&work.boxes);
+        rebuild_boxes(bodies, broad, work);
         for i in 0..bodies.len() {
             settle(i, bodies, &ctx, broad, work, &mut stats);
         }
@@ -317,6 +314,13 @@ pub fn step<B: BroadPhase>(
         update_sleep(bodies, settings, broad, work);
     }
     stats
+}
+
+/// Every grain's box, and the broad phase filed with them.
+fn rebuild_boxes<B: BroadPhase>(bodies: &[Body], broad: &mut B, work: &mut Workspace) {
+    work.boxes.clear();
+    work.boxes.extend(bodies.iter().map(Body::bounding_box));
+    broad.rebuild(&work.boxes);
 }
 
 /// Grain `i`'s turn in the step: Verlet, then projection passes until none finds a contact.

@@ -71,15 +71,14 @@ impl Strips {
         if !(settings.strip_width > 0.0 && width.is_finite()) {
             return None;
         }
-        let count = (width / settings.strip_width).floor();
+        // Capped so that a huge box cannot ask for more strips than it could ever hold grains.
+        let count = (width / settings.strip_width)
+            .floor()
+            .min((bodies.len().max(1) * 3) as f64);
         if count < MIN_STRIPS as f64 {
             return None;
         }
-        // Capped so that a huge box cannot ask for more strips than it could ever hold grains.
-        let count = count.min((bodies.len().max(1) * 3) as f64) as usize;
-        if count < MIN_STRIPS {
-            return None;
-        }
+        let count = count as usize;
         let strip = width / count as f64;
         let mut members = vec![Vec::new(); count];
         for (i, b) in bodies.iter().enumerate() {

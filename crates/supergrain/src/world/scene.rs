@@ -209,8 +209,8 @@ impl Scene {
                 Some(BroadPhaseSpec::Grid) => BroadPhaseKind::Grid,
                 Some(BroadPhaseSpec::AllPairs) => BroadPhaseKind::AllPairs,
             },
-            // Set from the groups below unless given.
-            strip_width: s.strip_width.map_or(f64::NAN, |v| v.0),
+            // Set below, from the groups unless given.
+            strip_width: 0.0,
         };
         let mut groups = Vec::new();
         for (k, g) in file.groups.iter().enumerate() {
@@ -257,9 +257,9 @@ impl Scene {
             }
             Some(c) => *c.get_ref(),
         };
-        if settings.strip_width.is_nan() {
-            settings.strip_width = auto_strip_width(&groups);
-        }
+        settings.strip_width = s
+            .strip_width
+            .map_or_else(|| auto_strip_width(&groups), |v| v.0);
         let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
