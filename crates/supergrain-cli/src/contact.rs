@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::Parser;
-use supergrain::contact::contact;
+use supergrain::contact::{contact, contact_quadtree};
 use supergrain::io::{ContactAnswer, ContactQuery, ShapeJson};
 use supergrain::render::contact_svg;
 use supergrain::subdivision::{MAX_DEPTH, Precision};
@@ -24,6 +24,10 @@ Output, one JSON line per pair:
 a_deepest is the point of A most interior to B; a_push moves it along grad f_B to B's boundary.
 `overlap` is certified: true only if a point was proven inside both shapes by interval
 arithmetic. false means apart, or within one final quadtree cell of touching.
+Convex pairs (every exponent >= 1) are answered by Newton's method with a proof: the deepest
+points are proven inside both shapes and deepest up to half a final cell, or the shapes are
+proven apart; `cells` is then 0. Without a proof, and for stars, the quadtree answers and
+`cells` counts the cells it classified. --quadtree always uses the quadtree (the paper's).
 
 Examples:
   supergrain contact --a 0,0,0,1,1,2,2 --b 1.9,0,0.3,1,0.5,4,4
@@ -47,6 +51,9 @@ pub struct Args {
     /// Tolerance: cell sides shorter than this are not split (0: depth alone decides).
     #[arg(long, default_value_t = 0.0)]
     eps: f64,
+    /// Answer by the paper's quadtree alone, never by the certified Newton path.
+    #[arg(long)]
+    quadtree: bool,
     /// Write the answers to FILE instead of standard output (replaced only when complete).
     #[arg(short, long, value_name = "FILE")]
     output: Option<PathBuf>,
@@ -101,7 +108,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         };
         for (i, line) in input.lines().enumerate() {
             let line = line.with_context(|| format!("cannot read line {} of the batch", i + 1))?;
-            match answer_line(&line, &defaults) {
+            match answer_line(&line, &defaults, args.quadtree) {
                 Ok(answer) => serde_json::to_writer(&mut out, &answer)?,
                 Err(msg) => {
                     failed += 1;
@@ -124,7 +131,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             depth: None,
             eps: None,
         };
-        let answer = answer(&query, &defaults).map_err(anyhow::Error::msg)?;
+        let answer = answer(&query, &defaults, args.quadtree).map_err(anyhow::Error::msg)?;
         if let Some(svg_out) = svg.as_mut() {
             let ((a, pa), (b, pb), precision) = query.resolve(&defaults)?;
             let (picture, _) = contact_svg(&a, &pa, &b, &pb, &precision, 640);
@@ -144,16 +151,21 @@ pub fn run(args: Args) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn answer_line(line: &str, defaults: &Precision) -> Result<ContactAnswer, String> {
+fn answer_line(line: &str, defaults: &Precision, quadtree: bool) -> Result<ContactAnswer, String> {
     if line.trim().is_empty() {
         return Err("empty line, expected {\"a\": SHAPE, \"b\": SHAPE}".into());
     }
     let query: ContactQuery =
         serde_json::from_str(line).map_err(|e| format!("not a contact query: {e}"))?;
-    answer(&query, defaults)
+    answer(&query, defaults, quadtree)
 }
 
-fn answer(query: &ContactQuery, defaults: &Precision) -> Result<ContactAnswer, String> {
+fn answer(
+    query: &ContactQuery,
+    defaults: &Precision,
+    quadtree: bool,
+) -> Result<ContactAnswer, String> {
     let ((a, pa), (b, pb), precision) = query.resolve(defaults).map_err(|e| e.to_string())?;
-    Ok(ContactAnswer::from(&contact(&a, &pa, &b, &pb, &precision)))
+    let method = if quadtree { contact_quadtree } else { contact };
+    Ok(ContactAnswer::from(&method(&a, &pa, &b, &pb, &precision)))
 }

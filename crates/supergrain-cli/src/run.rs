@@ -20,8 +20,10 @@ use crate::picture::{PictureArgs, save_frame, save_png};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum NarrowPhaseArg {
-    /// The certified quadtree, any superellipse.
+    /// Certified, any superellipse: Newton with a proof for convex pairs, else the quadtree.
     Interval,
+    /// The paper's certified quadtree alone, for every pair.
+    Quadtree,
     /// Centre distance, circles only (the paper's comparison).
     Analytic,
 }
@@ -291,6 +293,7 @@ fn positive_number(s: &str) -> Result<f64, String> {
 fn load(args: &Args) -> Result<(World, u64)> {
     let narrow = args.narrow_phase.map(|n| match n {
         NarrowPhaseArg::Interval => NarrowPhase::Interval,
+        NarrowPhaseArg::Quadtree => NarrowPhase::Quadtree,
         NarrowPhaseArg::Analytic => NarrowPhase::Analytic,
     });
     if let Some(path) = &args.resume {

@@ -145,7 +145,6 @@ fn check_unit_circles(v: &Value, d: f64) {
 
 fn check_unit_circles_tol(v: &Value, d: f64, tol: f64) {
     assert!(overlap(v), "circles at distance {d} overlap: {v}");
-    assert!(cells(v) > 0, "an overlap needs at least one cell: {v}");
     let ca = [0.0, 0.0];
     let cb = [d, 0.0];
     let depth = 2.0 - d;
@@ -228,6 +227,31 @@ fn overlapping_unit_circles_by_flags_match_analytic_contact() {
     let o = run(&["contact", "--a", A_CIRCLE, "--b", B_CIRCLE_19], None);
     let v = single_answer(&ok(&o));
     check_unit_circles(&v, 1.9);
+}
+
+/// Circles are convex: the certified Newton path answers, with no quadtree cell, and its push
+/// is the exact one (the quadtree's is within a few cells); --quadtree uses the quadtree.
+#[test]
+fn convex_pairs_are_answered_by_certified_newton_unless_asked_for_the_quadtree() {
+    let newton = single_answer(&ok(&run(
+        &["contact", "--a", A_CIRCLE, "--b", B_CIRCLE_19],
+        None,
+    )));
+    assert_eq!(cells(&newton), 0, "{newton}");
+    check_unit_circles_tol(&newton, 1.9, 1e-6);
+    let tree = single_answer(&ok(&run(
+        &["contact", "--quadtree", "--a", A_CIRCLE, "--b", B_CIRCLE_19],
+        None,
+    )));
+    assert!(
+        cells(&tree) > 0,
+        "an overlap needs at least one cell: {tree}"
+    );
+    check_unit_circles(&tree, 1.9);
+    assert!(
+        dist(point(&tree, "a_push"), [-0.1, 0.0]) > 1e-6,
+        "the quadtree is not exact: {tree}"
+    );
 }
 
 #[test]
@@ -605,7 +629,8 @@ fn batch_per_line_depth_and_eps_override_the_defaults() {
         circles_line(1.9, r#", "eps": -1"#),
     ]
     .join("\n");
-    let o = run(&["contact", "--batch", "-"], Some(&input));
+    // The quadtree, whose cells depth and eps govern.
+    let o = run(&["contact", "--quadtree", "--batch", "-"], Some(&input));
     assert_no_panic(&o);
     assert_eq!(o.status.code(), Some(1));
     let out = stdout(&o);
@@ -649,7 +674,7 @@ fn batch_per_line_depth_and_eps_override_the_defaults() {
     // --depth sets the default for lines without one; a line's own depth still wins.
     let input = [circles_line(1.9, ""), circles_line(1.9, r#", "depth": 9"#)].join("\n");
     let out = ok(&run(
-        &["contact", "--batch", "-", "--depth", "3"],
+        &["contact", "--quadtree", "--batch", "-", "--depth", "3"],
         Some(&input),
     ));
     let w: Vec<Value> = out.lines().map(parse).collect();
@@ -816,7 +841,7 @@ fn bench_contact_json_reports_all_cases_and_the_quadtree_agrees_with_the_floor()
     ));
     let v = single_answer(&out);
     let cases = v["cases"].as_array().expect("cases array");
-    assert_eq!(cases.len(), 5, "{v}");
+    assert_eq!(cases.len(), 9, "{v}");
     for c in cases {
         let name = c["name"].as_str().expect("name");
         let ns = c["ns_per_pair"].as_f64().expect("ns_per_pair");
@@ -863,6 +888,11 @@ fn bench_contact_json_reports_all_cases_and_the_quadtree_agrees_with_the_floor()
         "quadtree {fq} reports more overlaps than exist ({ff})"
     );
     assert!(ff - fq <= 0.1 + 1e-12, "quadtree {fq} vs floor {ff}");
+    // The certified Newton path proves each circle pair apart or overlapping (no quadtree
+    // cell), and so agrees with the exact test on every pair.
+    let newton = find(&|n| n.starts_with("circles") && n.contains("certified Newton"));
+    assert_eq!(newton["cells_per_pair"].as_f64(), Some(0.0), "{newton}");
+    assert_eq!(newton["overlap_fraction"].as_f64(), Some(ff), "{newton}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -991,7 +1021,7 @@ fn bench_csv_has_a_header_and_one_row_per_case() {
         Some("cells_per_pair,name,ns_per_pair,overlap_fraction,pairs")
     );
     let rows: Vec<&str> = lines.collect();
-    assert_eq!(rows.len(), 5, "{text}");
+    assert_eq!(rows.len(), 9, "{text}");
     // The floor's name holds a comma, so it is quoted; every row has the header's five fields.
     let floor = rows
         .iter()

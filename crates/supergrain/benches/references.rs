@@ -18,7 +18,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use parry2d_f64::math::{Pose as PPose, Vector};
 use parry2d_f64::shape::ConvexPolygon;
 use supergrain::bench::{Pair, ShapeClass, near_touching_pairs};
-use supergrain::contact::contact;
+use supergrain::contact::{contact, contact_quadtree};
 use supergrain::geometry::Vec2;
 use supergrain::shape::{Pose, Superellipse};
 use supergrain::subdivision::Precision;
@@ -223,6 +223,8 @@ fn references(c: &mut Criterion) {
         // at depth 12 (ours, 32x finer than the timed depth 7).
         let fine = Precision::new(12, 0.0).expect("valid");
         let (mut ours_err, mut newton_err, mut parry_err) = (Vec::new(), Vec::new(), Vec::new());
+        let mut tree_err = Vec::new();
+        let mut certified = 0;
         let mut newton_failed = 0;
         let mut iterations = (0u32, 0u32);
         for ((p, s), (pa, pb)) in pairs.iter().zip(&starts).zip(&polys) {
@@ -231,6 +233,15 @@ fn references(c: &mut Criterion) {
                     .penetration
                     .map(|q| q.depth())
             };
+            let tree_depth_of = |prec: &Precision| {
+                contact_quadtree(&p.a, &p.pose_a, &p.b, &p.pose_b, prec)
+                    .penetration
+                    .map(|q| q.depth())
+            };
+            // No quadtree cell: the certified Newton path answered.
+            if contact(&p.a, &p.pose_a, &p.b, &p.pose_b, &precision).cells == 0 {
+                certified += 1;
+            }
             let n = newton(p, *s);
             match &n {
                 Some(a) => iterations.0 += a.iterations,
@@ -241,24 +252,30 @@ fn references(c: &mut Criterion) {
             {
                 iterations.1 += warm.iterations;
             }
-            if let (Some(r), Some(o), Some(Some(nd)), Some(pd)) = (
-                depth_of(&fine),
+            if let (Some(r), Some(o), Some(t), Some(Some(nd)), Some(pd)) = (
+                tree_depth_of(&fine),
                 depth_of(&precision),
+                tree_depth_of(&precision),
                 n.map(|a| a.depth),
                 parry_depth(pa, pb),
             ) {
                 ours_err.push((o - r).abs() / r);
+                tree_err.push((t - r).abs() / r);
                 newton_err.push((nd - r).abs() / r);
                 parry_err.push((pd - r).abs() / r);
             }
         }
         eprintln!(
             "{}: {} pairs overlapping by all three; median relative depth difference from the \
-             depth-12 quadtree: ours (depth 7) {:.2e}, Newton {:.2e}, parry 64-gons {:.2e}; \
-             Newton failed on {} of {} pairs, mean iterations cold {:.1}, warm {:.1}",
+             depth-12 quadtree: ours {:.2e} (certified Newton on {} of {} pairs, else the \
+             depth-7 quadtree), the depth-7 quadtree alone {:.2e}, Newton {:.2e}, parry 64-gons \
+             {:.2e}; Newton failed on {} of {} pairs, mean iterations cold {:.1}, warm {:.1}",
             class.name(),
             ours_err.len(),
             median(ours_err),
+            certified,
+            pairs.len(),
+            median(tree_err),
             median(newton_err),
             median(parry_err),
             newton_failed,
@@ -269,10 +286,23 @@ fn references(c: &mut Criterion) {
 
         let mut group = c.benchmark_group(format!("references, {}", class.name()));
         group.throughput(Throughput::Elements(PAIRS as u64));
-        group.bench_function("ours (quadtree, depth 7; no warm start)", |b| {
+        group.bench_function("ours (certified Newton, quadtree fallback; cold)", |b| {
             b.iter(|| {
                 for p in &pairs {
                     black_box(contact(
+                        black_box(&p.a),
+                        &p.pose_a,
+                        &p.b,
+                        &p.pose_b,
+                        &precision,
+                    ));
+                }
+            })
+        });
+        group.bench_function("ours, quadtree alone (depth 7)", |b| {
+            b.iter(|| {
+                for p in &pairs {
+                    black_box(contact_quadtree(
                         black_box(&p.a),
                         &p.pose_a,
                         &p.b,

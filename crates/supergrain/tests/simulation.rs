@@ -162,8 +162,12 @@ fn assert_settled(world: &World, what: &str, at_rest: bool, within_a_cell: bool)
 }
 
 /// Rest is not sleep holding grains in the air: with every grain woken and sleeping turned
-/// off, 100 more steps move no grain by more than 0.05 (an unsupported grain falls about 0.5
-/// in that time; the trembling sleep hides is about 0.001 per step).
+/// off, 100 more steps move no grain by more than 0.25. An unsupported grain falls about 0.5
+/// to 1 in that time. What a woken heap does instead is settle locally: a frictionless grain
+/// asleep in a balance its sleeping neighbours held slides into the next hollow, 0.08 to 0.19
+/// in 16 seeds of the circles and squircles presets, with the quadtree alone (noisy contacts)
+/// as with the certified Newton path (exact ones); the same woken state moves the same grain by
+/// the same distance under either.
 fn assert_supported(world: &World, what: &str) {
     let dump = Dump::of(world);
     let mut awake = dump.to_world().unwrap();
@@ -175,7 +179,7 @@ fn assert_supported(world: &World, what: &str) {
     for (i, (b, p)) in awake.bodies.iter().zip(&before).enumerate() {
         let moved = (b.center - *p).norm();
         assert!(
-            moved < 0.05,
+            moved < 0.25,
             "{what}: grain {i} moved {moved} once woken: sleep held it up"
         );
     }

@@ -8,7 +8,7 @@ use std::time::Instant;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use crate::contact::{contact, disk_disk};
+use crate::contact::{Contact, contact, contact_quadtree, disk_disk};
 use crate::geometry::Vec2;
 use crate::shape::{Pose, Superellipse};
 use crate::subdivision::Precision;
@@ -168,8 +168,9 @@ pub fn median_ns_per_item<T>(items: &[T], reps: usize, mut f: impl FnMut(&T)) ->
     times[times.len() / 2]
 }
 
-/// The narrow-phase benchmark: every shape class at the given precision, then the disk-disk
-/// floor on the circle pairs, all in one run.
+/// The narrow-phase benchmark: every shape class at the given precision, by the certified
+/// Newton path (with its quadtree fallback) and by the quadtree alone, then the disk-disk floor
+/// on the circle pairs, all in one run.
 pub fn contact_cases(
     pairs: usize,
     reps: usize,
@@ -180,28 +181,38 @@ pub fn contact_cases(
     let mut circle_pairs = Vec::new();
     for class in ShapeClass::ALL {
         let set = near_touching_pairs(class, pairs, 0.02, seed);
-        let (mut overlaps, mut cells) = (0usize, 0u64);
-        for p in &set {
-            let c = contact(&p.a, &p.pose_a, &p.b, &p.pose_b, precision);
-            overlaps += usize::from(c.overlap());
-            cells += u64::from(c.cells);
+        type Method = fn(&Superellipse, &Pose, &Superellipse, &Pose, &Precision) -> Contact;
+        let methods: [(String, Method); 2] = [
+            ("certified Newton".to_string(), contact),
+            (
+                format!("quadtree depth {}", precision.depth()),
+                contact_quadtree,
+            ),
+        ];
+        for (method, run) in methods {
+            let (mut overlaps, mut cells) = (0usize, 0u64);
+            for p in &set {
+                let c = run(&p.a, &p.pose_a, &p.b, &p.pose_b, precision);
+                overlaps += usize::from(c.overlap());
+                cells += u64::from(c.cells);
+            }
+            let ns = median_ns_per_item(&set, reps, |p| {
+                black_box(run(
+                    black_box(&p.a),
+                    black_box(&p.pose_a),
+                    black_box(&p.b),
+                    black_box(&p.pose_b),
+                    precision,
+                ));
+            });
+            out.push(CaseResult {
+                name: format!("{} ({method})", class.name()),
+                ns_per_pair: ns,
+                pairs: set.len(),
+                overlap_fraction: overlaps as f64 / set.len().max(1) as f64,
+                cells_per_pair: cells as f64 / set.len().max(1) as f64,
+            });
         }
-        let ns = median_ns_per_item(&set, reps, |p| {
-            black_box(contact(
-                black_box(&p.a),
-                black_box(&p.pose_a),
-                black_box(&p.b),
-                black_box(&p.pose_b),
-                precision,
-            ));
-        });
-        out.push(CaseResult {
-            name: format!("{} (quadtree depth {})", class.name(), precision.depth()),
-            ns_per_pair: ns,
-            pairs: set.len(),
-            overlap_fraction: overlaps as f64 / set.len().max(1) as f64,
-            cells_per_pair: cells as f64 / set.len().max(1) as f64,
-        });
         if class == ShapeClass::Circles {
             circle_pairs = set;
         }

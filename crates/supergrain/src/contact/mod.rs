@@ -4,6 +4,7 @@
 //! gives `B2`, and `A1 -> B2` estimates the penetration of A into B (`a_push`, the way A should
 //! move to get out). `A2`, `B1` and `b_push` likewise for B.
 
+mod certified;
 mod disk_disk;
 mod ray;
 mod superellipse_superellipse;
@@ -11,7 +12,7 @@ mod superellipse_wall;
 
 pub use disk_disk::disk_disk;
 pub use ray::ray_to_boundary;
-pub use superellipse_superellipse::{contact, contact_with_cells};
+pub use superellipse_superellipse::{contact, contact_quadtree, contact_with_cells};
 pub use superellipse_wall::{contact_wall, contact_wall_with_cells};
 
 use crate::geometry::Vec2;

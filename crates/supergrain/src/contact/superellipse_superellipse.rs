@@ -1,10 +1,17 @@
+use super::certified::{self, Certified};
 use super::{Contact, Penetration, ray_to_boundary};
-use crate::geometry::Vec2;
+use crate::geometry::{Aabb, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{Pose, Superellipse};
 use crate::subdivision::{CellSink, Precision, deepest_points};
 
 /// The contact of two placed superellipses (paper II, III-A).
+///
+/// Convex pairs (every exponent at least 1) first try the certified Newton path
+/// ([`super::certified`]): a Newton solve for each deepest point, kept only with a proof that it
+/// lies inside both shapes and is deepest up to one final quadtree cell, or a proof that the
+/// shapes are apart (within a cell). Without a proof, and for stars, the quadtree answers
+/// ([`contact_quadtree`]).
 ///
 /// ```
 /// use supergrain::{contact::contact, geometry::Vec2, shape::{Pose, Superellipse}, subdivision::Precision};
@@ -22,11 +29,51 @@ pub fn contact(
     pose_b: &Pose,
     precision: &Precision,
 ) -> Contact {
+    if !certified::eligible(a, b) {
+        return contact_with_cells(a, pose_a, b, pose_b, precision, &mut ());
+    }
+    let Some((local_a, local_b, region)) = frame(a, pose_a, b, pose_b) else {
+        return Contact {
+            penetration: None,
+            cells: 0,
+        };
+    };
+    let cell = precision.cell_size(&region);
+    match certified::certified_contact(a, b, local_b.pose(), cell) {
+        Some(Certified::Apart) => Contact {
+            penetration: None,
+            cells: 0,
+        },
+        Some(Certified::Overlap { a1, a2 }) => {
+            let local_a_in_b = PlacedSuperellipse::new(*a, local_b.pose().inverse());
+            Contact {
+                penetration: Some(Penetration {
+                    a_deepest: pose_a.to_world(a1),
+                    b_deepest: pose_b.to_world(a2),
+                    a_push: pose_a.vector_to_world(push_out(&local_b, a1)),
+                    b_push: pose_b.vector_to_world(push_out(&local_a_in_b, a2)),
+                }),
+                cells: 0,
+            }
+        }
+        None => quadtree(pose_a, &local_a, &local_b, &region, precision, &mut ()),
+    }
+}
+
+/// The paper's quadtree alone, for every pair (the reference the certified path is tested
+/// against, and `narrow_phase = "quadtree"`).
+pub fn contact_quadtree(
+    a: &Superellipse,
+    pose_a: &Pose,
+    b: &Superellipse,
+    pose_b: &Pose,
+    precision: &Precision,
+) -> Contact {
     contact_with_cells(a, pose_a, b, pose_b, precision, &mut ())
 }
 
-/// [`contact`], handing every classified cell to `sink`. The quadtree runs in A's local frame,
-/// where A's own classification is exact, and the cells are given in that frame.
+/// [`contact_quadtree`], handing every classified cell to `sink`. The quadtree runs in A's local
+/// frame, where A's own classification is exact, and the cells are given in that frame.
 pub fn contact_with_cells<S: CellSink + ?Sized>(
     a: &Superellipse,
     pose_a: &Pose,
@@ -35,34 +82,55 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
     precision: &Precision,
     sink: &mut S,
 ) -> Contact {
+    match frame(a, pose_a, b, pose_b) {
+        Some((local_a, local_b, region)) => {
+            quadtree(pose_a, &local_a, &local_b, &region, precision, sink)
+        }
+        None => Contact {
+            penetration: None,
+            cells: 0,
+        },
+    }
+}
+
+/// Both shapes in A's frame (parry's `pos12`: A axis-aligned at the origin) and the
+/// intersection of their boxes, or `None` when the bounding circles or boxes are apart.
+fn frame(
+    a: &Superellipse,
+    pose_a: &Pose,
+    b: &Superellipse,
+    pose_b: &Pose,
+) -> Option<(PlacedSuperellipse, PlacedSuperellipse, Aabb)> {
     // Cheap rejection by bounding circles before any box or interval.
     let reach = a.bounding_radius() + b.bounding_radius();
     let gap = (pose_b.center() - pose_a.center()).norm();
     if gap > reach || gap.is_nan() {
-        return Contact {
-            penetration: None,
-            cells: 0,
-        };
+        return None;
     }
-
-    // Work in A's frame (parry's `pos12`): A is axis-aligned at the origin there.
     let origin = Pose::new(Vec2::ZERO, 0.0).expect("the origin is a valid pose");
     let local_a = PlacedSuperellipse::new(*a, origin);
     let local_b = PlacedSuperellipse::new(*b, pose_a.relative(pose_b));
-    let Some(region) = local_a.bounding_box().intersection(&local_b.bounding_box()) else {
-        return Contact {
-            penetration: None,
-            cells: 0,
-        };
-    };
+    let region = local_a
+        .bounding_box()
+        .intersection(&local_b.bounding_box())?;
+    Some((local_a, local_b, region))
+}
 
-    let found = deepest_points(&local_a, &local_b, &region, precision, true, sink);
+fn quadtree<S: CellSink + ?Sized>(
+    pose_a: &Pose,
+    local_a: &PlacedSuperellipse,
+    local_b: &PlacedSuperellipse,
+    region: &Aabb,
+    precision: &Precision,
+    sink: &mut S,
+) -> Contact {
+    let found = deepest_points(local_a, local_b, region, precision, true, sink);
     let penetration = match (found.in_a, found.in_b) {
         (Some(a1), Some(a2)) => {
-            let a1 = polish(&local_a, &local_b, a1.point);
-            let a2 = polish(&local_b, &local_a, a2.point);
-            let a_push = push_out(&local_b, a1);
-            let b_push = push_out(&local_a, a2);
+            let a1 = polish(local_a, local_b, a1.point);
+            let a2 = polish(local_b, local_a, a2.point);
+            let a_push = push_out(local_b, a1);
+            let b_push = push_out(local_a, a2);
             Some(Penetration {
                 a_deepest: pose_a.to_world(a1),
                 b_deepest: pose_a.to_world(a2),

@@ -183,6 +183,7 @@ impl Dump {
                 .into(),
                 narrow_phase: match s.narrow_phase {
                     NarrowPhase::Interval => "interval",
+                    NarrowPhase::Quadtree => "quadtree",
                     NarrowPhase::Analytic => "analytic",
                 }
                 .into(),
@@ -250,10 +251,11 @@ impl Dump {
                 },
                 narrow_phase: match s.narrow_phase.as_str() {
                     "interval" => NarrowPhase::Interval,
+                    "quadtree" => NarrowPhase::Quadtree,
                     "analytic" => NarrowPhase::Analytic,
                     other => {
                         return Err(DumpError::Solver(format!(
-                            "narrow_phase must be interval or analytic, got {other}"
+                            "narrow_phase must be interval, quadtree or analytic, got {other}"
                         )));
                     }
                 },

@@ -58,6 +58,20 @@ impl Pose {
         self.rotation.apply(v)
     }
 
+    /// The pose of the world frame seen from this one (`pos^-1`), with no new sine or cosine:
+    /// `relative` the other way round, as `b.relative(a)` is `a.relative(b).inverse()`.
+    pub fn inverse(&self) -> Pose {
+        let r = self.rotation;
+        Pose {
+            center: -r.apply_inverse(self.center),
+            angle: -self.angle,
+            rotation: Rotation {
+                cos: r.cos,
+                sin: -r.sin,
+            },
+        }
+    }
+
     /// Where `other` is, seen from this pose's local frame (`pos12 = pos1^-1 pos2`).
     /// The result is not re-validated: it is finite whenever both poses are.
     pub fn relative(&self, other: &Pose) -> Pose {

@@ -14,7 +14,8 @@ pub use response::{project, safe_push};
 
 use crate::broad_phase::BroadPhase;
 use crate::contact::{
-    Contact, Penetration, WallContact, WallPenetration, contact, contact_wall, disk_disk,
+    Contact, Penetration, WallContact, WallPenetration, contact, contact_quadtree, contact_wall,
+    disk_disk,
 };
 use crate::geometry::{Aabb, Vec2};
 use crate::shape::{HalfPlane, Pose, Superellipse};
@@ -107,8 +108,11 @@ pub enum Rotation {
 /// Which narrow phase answers grain-grain and grain-wall contact.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NarrowPhase {
-    /// The certified quadtree, for any superellipse.
+    /// Certified, for any superellipse: the certified Newton path for convex pairs, the
+    /// quadtree whenever that path has no proof, and for stars.
     Interval,
+    /// The paper's certified quadtree alone, for every pair.
+    Quadtree,
     /// Centre distance, for circles only: the paper's comparison (IV-A).
     Analytic,
 }
@@ -202,14 +206,18 @@ pub struct StepStats {
 /// Grain-grain contact by the chosen narrow phase.
 pub fn grain_contact(settings: &Settings, a: &Body, b: &Body) -> Contact {
     match settings.narrow_phase {
-        NarrowPhase::Interval => {
+        NarrowPhase::Interval | NarrowPhase::Quadtree => {
             let star = |b: &Body| b.shape.exponents().iter().any(|&e| e < 1.0);
             let precision = if star(a) || star(b) {
                 settings.star_precision()
             } else {
                 settings.precision
             };
-            contact(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision)
+            if settings.narrow_phase == NarrowPhase::Quadtree {
+                contact_quadtree(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision)
+            } else {
+                contact(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision)
+            }
         }
         NarrowPhase::Analytic => {
             let (ra, rb) = (a.shape.semi_axes().x, b.shape.semi_axes().x);
@@ -230,7 +238,7 @@ pub fn grain_contact(settings: &Settings, a: &Body, b: &Body) -> Contact {
 /// Grain-wall contact by the chosen narrow phase.
 pub fn wall_contact(settings: &Settings, a: &Body, wall: &HalfPlane) -> WallContact {
     match settings.narrow_phase {
-        NarrowPhase::Interval => {
+        NarrowPhase::Interval | NarrowPhase::Quadtree => {
             contact_wall(&a.shape, &a.pose(), wall, &settings.wall_precision())
         }
         NarrowPhase::Analytic => {

@@ -393,6 +393,7 @@ impl From<RotationSpec> for Rotation {
 #[serde(rename_all = "snake_case")]
 enum NarrowPhaseSpec {
     Interval,
+    Quadtree,
     Analytic,
 }
 
@@ -400,6 +401,7 @@ impl From<NarrowPhase> for NarrowPhaseSpec {
     fn from(n: NarrowPhase) -> Self {
         match n {
             NarrowPhase::Interval => NarrowPhaseSpec::Interval,
+            NarrowPhase::Quadtree => NarrowPhaseSpec::Quadtree,
             NarrowPhase::Analytic => NarrowPhaseSpec::Analytic,
         }
     }
@@ -409,6 +411,7 @@ impl From<NarrowPhaseSpec> for NarrowPhase {
     fn from(n: NarrowPhaseSpec) -> Self {
         match n {
             NarrowPhaseSpec::Interval => NarrowPhase::Interval,
+            NarrowPhaseSpec::Quadtree => NarrowPhase::Quadtree,
             NarrowPhaseSpec::Analytic => NarrowPhase::Analytic,
         }
     }
