@@ -107,8 +107,7 @@ fn frame(
     if gap > reach || gap.is_nan() {
         return None;
     }
-    let origin = Pose::new(Vec2::ZERO, 0.0).expect("the origin is a valid pose");
-    let local_a = PlacedSuperellipse::new(*a, origin);
+    let local_a = PlacedSuperellipse::new(*a, Pose::ORIGIN);
     let local_b = PlacedSuperellipse::new(*b, pose_a.relative(pose_b));
     let region = local_a
         .bounding_box()

@@ -10,6 +10,13 @@ pub struct Pose {
 }
 
 impl Pose {
+    /// The identity: centre at the origin, angle 0.
+    pub const ORIGIN: Pose = Pose {
+        center: Vec2::ZERO,
+        angle: 0.0,
+        rotation: Rotation::IDENTITY,
+    };
+
     /// A pose with a finite centre and angle.
     pub fn new(center: Vec2, angle: f64) -> Result<Self, ShapeError> {
         check_finite("center x", center.x)?;

@@ -130,6 +130,10 @@ impl Superellipse {
         }
         let s = if e <= 1.0 {
             m
+        } else if e == 2.0 {
+            // q = 2: no powf (the contact certificate asks for this often).
+            let r = a.min(b) / m;
+            m * (1.0 + r * r).sqrt()
         } else {
             let q = e / (e - 1.0);
             // Normalise by the larger term so that huge q neither overflows nor underflows.
