@@ -18,7 +18,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use parry2d_f64::math::{Pose as PPose, Vector};
 use parry2d_f64::shape::ConvexPolygon;
 use supergrain::bench::{Pair, ShapeClass, near_touching_pairs};
-use supergrain::contact::{contact, contact_quadtree};
+use supergrain::contact::{WarmStart, contact, contact_quadtree, contact_warm};
 use supergrain::geometry::Vec2;
 use supergrain::shape::{Pose, Superellipse};
 use supergrain::subdivision::Precision;
@@ -209,6 +209,15 @@ fn references(c: &mut Criterion) {
             .map(|(p, s)| newton(p, *s).map_or(*s, |a| a.midway))
             .collect();
         let nudged_pairs: Vec<Pair> = pairs.iter().map(nudged).collect();
+        // Ours likewise: where the certified path found each pair's points before the nudge.
+        let ours_warm: Vec<Option<WarmStart>> = pairs
+            .iter()
+            .map(|p| {
+                let mut w = None;
+                contact_warm(&p.a, &p.pose_a, &p.b, &p.pose_b, &precision, &mut w);
+                w
+            })
+            .collect();
         let polys: Vec<_> = pairs
             .iter()
             .map(|p| {
@@ -295,6 +304,21 @@ fn references(c: &mut Criterion) {
                         &p.b,
                         &p.pose_b,
                         &precision,
+                    ));
+                }
+            })
+        });
+        group.bench_function("ours (certified Newton, warm (persisting))", |b| {
+            b.iter(|| {
+                for (p, w) in nudged_pairs.iter().zip(&ours_warm) {
+                    let mut w = *w;
+                    black_box(contact_warm(
+                        black_box(&p.a),
+                        &p.pose_a,
+                        &p.b,
+                        &p.pose_b,
+                        &precision,
+                        &mut w,
                     ));
                 }
             })

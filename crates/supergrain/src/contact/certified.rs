@@ -56,24 +56,47 @@ pub(crate) fn eligible(a: &Superellipse, b: &Superellipse) -> bool {
 /// The certified answer for `a` and `b` placed at `rel_ab` in `a`'s frame, or `None` when no certificate
 /// could be had (the caller then runs the quadtree). `cell`: the quadtree's final cell size for
 /// this pair, which sets the tolerance.
+///
+/// `warm`: where the last query of this pair found its points (a persisting contact), updated
+/// with this query's.
 pub(crate) fn certified_contact(
     a: &Superellipse,
     b: &Superellipse,
     rel_ab: &Pose,
     cell: f64,
+    warm: &mut Option<WarmStart>,
 ) -> Option<Certified> {
-    let a1 = match deepest(a, b, rel_ab, cell, None)? {
-        Deepest::Beyond => return Some(Certified::Apart),
-        Deepest::At(p) => p,
+    let last = warm.take();
+    let a1 = match deepest(a, b, rel_ab, cell, last.map(|w| w.a1))? {
+        (Deepest::Beyond, x) => {
+            *warm = Some(WarmStart { a1: x, a2: None });
+            return Some(Certified::Apart);
+        }
+        (Deepest::At(p), _) => p,
     };
     // A1 is inside both: the shapes overlap, so A2 exists; failing to certify it is possible
     // (Newton may fail on B's side) and sends the pair to the quadtree.
     let rel_ba = rel_ab.inverse();
-    // A2 is near A1 unless the overlap is deep: start there, seen from B.
-    match deepest(b, a, &rel_ba, cell, Some(rel_ba.to_world(a1)))? {
-        Deepest::At(a2) => Some(Certified::Overlap { a1, a2 }),
-        Deepest::Beyond => None,
+    // A2 is near A1 unless the overlap is deep: start there, seen from B, unless known.
+    let start = last
+        .and_then(|w| w.a2)
+        .unwrap_or_else(|| rel_ba.to_world(a1));
+    match deepest(b, a, &rel_ba, cell, Some(start))? {
+        (Deepest::At(a2), _) => {
+            *warm = Some(WarmStart { a1, a2: Some(a2) });
+            Some(Certified::Overlap { a1, a2 })
+        }
+        (Deepest::Beyond, _) => None,
     }
+}
+
+/// Where the certified path last found a pair's deepest points, each in its own shape's frame
+/// (so that it survives the pair's motion): the start of the next Newton solve for a persisting
+/// contact. Only a start: every answer is certified afresh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WarmStart {
+    a1: Vec2,
+    a2: Option<Vec2>,
 }
 
 enum Deepest {
@@ -83,15 +106,15 @@ enum Deepest {
     At(Vec2),
 }
 
-/// The deepest point of `own` in `other`, in `own`'s frame, where `other` is placed at `rel`.
-/// `start`: a point near the answer, if known.
+/// The deepest point of `own` in `other`, in `own`'s frame, where `other` is placed at `rel`,
+/// and Newton's point (a warm start). `start`: a point near the answer, if known.
 fn deepest(
     own: &Superellipse,
     other: &Superellipse,
     rel: &Pose,
     cell: f64,
     start: Option<Vec2>,
-) -> Option<Deepest> {
+) -> Option<(Deepest, Vec2)> {
     let placed_own = PlacedSuperellipse::new(*own, Pose::ORIGIN);
     let placed_other = PlacedSuperellipse::new(*other, *rel);
     let centre = rel.center();
@@ -99,7 +122,8 @@ fn deepest(
     // `own` holds `other`'s centre: that centre is the answer (`f_other >= -1` everywhere).
     // (Its plain value first: an enclosure cannot prove inside a point whose value is > 0.)
     if own.local_value(centre) < 1e-9 && placed_own.enclose_point(centre).hi < 0.0 {
-        return (placed_other.enclose_point(centre).hi < 0.0).then_some(Deepest::At(centre));
+        return (placed_other.enclose_point(centre).hi < 0.0)
+            .then_some((Deepest::At(centre), centre));
     }
 
     let x = newton(own, other, rel, start)?;
@@ -115,12 +139,12 @@ fn deepest(
     let plane = half_plane(own, x, f_own.lo)?;
     let f_other = placed_other.enclose_point(x);
     if f_other.hi < 0.0 && f_own.hi < 0.0 {
-        return proves_above(plane, other, rel, f_other.hi - tau).then_some(Deepest::At(x));
+        return proves_above(plane, other, rel, f_other.hi - tau).then_some((Deepest::At(x), x));
     }
     // Apart only with a proof that no point of own is in other at all: "within a cell of
     // touching" in f is not within a cell in distance where |grad f| varies along a thin shape,
     // so touching pairs go to the quadtree.
-    proves_above(plane, other, rel, 0.0).then_some(Deepest::Beyond)
+    proves_above(plane, other, rel, 0.0).then_some((Deepest::Beyond, x))
 }
 
 /// `|v|` by a square root: `hypot`, which guards against overflow these magnitudes never
@@ -498,7 +522,7 @@ mod tests {
             .unwrap();
             total += 1;
             let cell = 1e-3;
-            let Some(answer) = deepest(&own, &other, &rel, cell, None) else {
+            let Some((answer, _)) = deepest(&own, &other, &rel, cell, None) else {
                 continue;
             };
             certified += 1;

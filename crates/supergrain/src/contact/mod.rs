@@ -10,9 +10,10 @@ mod ray;
 mod superellipse_superellipse;
 mod superellipse_wall;
 
+pub use certified::WarmStart;
 pub use disk_disk::disk_disk;
 pub use ray::ray_to_boundary;
-pub use superellipse_superellipse::{contact, contact_quadtree, contact_with_cells};
+pub use superellipse_superellipse::{contact, contact_quadtree, contact_warm, contact_with_cells};
 pub use superellipse_wall::{contact_wall, contact_wall_with_cells};
 
 use crate::geometry::Vec2;

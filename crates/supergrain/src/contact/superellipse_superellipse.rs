@@ -1,4 +1,4 @@
-use super::certified::{self, Certified};
+use super::certified::{self, Certified, WarmStart};
 use super::{Contact, Penetration, ray_to_boundary};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
@@ -29,6 +29,21 @@ pub fn contact(
     pose_b: &Pose,
     precision: &Precision,
 ) -> Contact {
+    contact_warm(a, pose_a, b, pose_b, precision, &mut None)
+}
+
+/// [`contact`] for a persisting contact: `warm` holds where the last query of this pair found
+/// its deepest points (`None` the first time), and is updated. It only starts the Newton
+/// solves nearer their answers; every answer is certified afresh, so it is the same contact up
+/// to the certificate's tolerance.
+pub fn contact_warm(
+    a: &Superellipse,
+    pose_a: &Pose,
+    b: &Superellipse,
+    pose_b: &Pose,
+    precision: &Precision,
+    warm: &mut Option<WarmStart>,
+) -> Contact {
     if !certified::eligible(a, b) {
         return contact_with_cells(a, pose_a, b, pose_b, precision, &mut ());
     }
@@ -39,7 +54,7 @@ pub fn contact(
         };
     };
     let cell = precision.cell_size(&region);
-    match certified::certified_contact(a, b, local_b.pose(), cell) {
+    match certified::certified_contact(a, b, local_b.pose(), cell, warm) {
         Some(Certified::Apart) => Contact {
             penetration: None,
             cells: 0,
