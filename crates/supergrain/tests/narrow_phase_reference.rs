@@ -1,24 +1,45 @@
-//! The quadtree's overlap decisions and deepest points against references that share no code
-//! with it: the Perram-Wertheim contact function for ellipses, and densely sampled boundaries
-//! for every exponent (issue 2, "Correct").
+//! The narrow phase's overlap decisions and deepest points against references that share no
+//! code with it: the Perram-Wertheim contact function for ellipses, and densely sampled
+//! boundaries for every exponent (issue 2, "Correct"). Every pair is answered three ways: by
+//! the certified Newton path (cold and warm-started) and by the quadtree alone.
 
 mod common;
 
 use common::*;
-use supergrain::contact::contact;
+use supergrain::contact::{Contact, contact, contact_quadtree, contact_warm};
+use supergrain::geometry::Vec2;
+use supergrain::shape::Pose;
 use supergrain::subdivision::Precision;
 
 const DEPTH: u32 = 7;
 
-fn run(a: &Shape, b: &Shape) -> supergrain::contact::Contact {
+/// The pair by each method: the certified Newton path (with its quadtree fallback), the same
+/// warm-started from the pair's answer one small move earlier, and the quadtree alone.
+fn run_all(a: &Shape, b: &Shape) -> [(&'static str, Contact); 3] {
     let (sa, pa) = to_lib(a);
     let (sb, pb) = to_lib(b);
-    contact(&sa, &pa, &sb, &pb, &Precision::new(DEPTH, 0.0).unwrap())
+    let precision = Precision::new(DEPTH, 0.0).unwrap();
+    let size = b.max_axis();
+    let earlier = Pose::new(
+        pb.center() + Vec2::new(-0.7, 0.7) * (1e-3 * size),
+        pb.angle() - 1e-3,
+    )
+    .unwrap();
+    let mut warm = None;
+    contact_warm(&sa, &pa, &sb, &earlier, &precision, &mut warm);
+    [
+        ("certified", contact(&sa, &pa, &sb, &pb, &precision)),
+        (
+            "certified, warm",
+            contact_warm(&sa, &pa, &sb, &pb, &precision, &mut warm),
+        ),
+        ("quadtree", contact_quadtree(&sa, &pa, &sb, &pb, &precision)),
+    ]
 }
 
 /// When the quadtree reports an overlap, `A1` is inside both shapes and `A1 + a_push` on B's
 /// boundary (and likewise for B), by the reference implicit functions.
-fn check_points(a: &Shape, b: &Shape, c: &supergrain::contact::Contact, what: &str) {
+fn check_points(a: &Shape, b: &Shape, c: &Contact, what: &str) {
     let Some(p) = c.penetration else { return };
     let a1 = p.a_deepest.to_array();
     let a2 = p.b_deepest.to_array();
@@ -135,42 +156,43 @@ fn ellipses_agree_with_perram_wertheim() {
         b.c = [a.c[0] + t * dir.cos(), a.c[1] + t * dir.sin()];
         let mu = perram_wertheim(&a, &b).sqrt();
         let cell = cell_diagonal_bound(&a, &b, DEPTH);
-        let c = run(&a, &b);
-        let what = format!("pair {i}: {a:?} {b:?} mu {mu}");
-        // Scaling by mu makes them touch; a convex shape holding a disk of radius r about its
-        // centre grows by at least (mu - 1) r when scaled by mu.
-        if (mu - 1.0) * (a.min_axis() + b.min_axis()) > cell {
-            assert!(
-                !c.overlap(),
-                "{what}: apart by more than a cell, reported overlapping"
-            );
-            checked_sep += 1;
-        }
-        if (1.0 - mu) * a.min_axis().min(b.min_axis()) > cell {
-            assert!(
-                c.overlap(),
-                "{what}: overlapping by more than a cell, reported apart"
-            );
-            checked_ov += 1;
-        }
-        check_points(&a, &b, &c, &what);
-        if let Some(p) = c.penetration {
-            check_deepest(
-                &a,
-                &a.samples(0.25 * cell),
-                &b,
-                p.a_deepest.to_array(),
-                cell,
-                &what,
-            );
-            check_deepest(
-                &b,
-                &b.samples(0.25 * cell),
-                &a,
-                p.b_deepest.to_array(),
-                cell,
-                &what,
-            );
+        for (method, c) in run_all(&a, &b) {
+            let what = format!("{method}, pair {i}: {a:?} {b:?} mu {mu}");
+            // Scaling by mu makes them touch; a convex shape holding a disk of radius r about its
+            // centre grows by at least (mu - 1) r when scaled by mu.
+            if (mu - 1.0) * (a.min_axis() + b.min_axis()) > cell {
+                assert!(
+                    !c.overlap(),
+                    "{what}: apart by more than a cell, reported overlapping"
+                );
+                checked_sep += 1;
+            }
+            if (1.0 - mu) * a.min_axis().min(b.min_axis()) > cell {
+                assert!(
+                    c.overlap(),
+                    "{what}: overlapping by more than a cell, reported apart"
+                );
+                checked_ov += 1;
+            }
+            check_points(&a, &b, &c, &what);
+            if let Some(p) = c.penetration {
+                check_deepest(
+                    &a,
+                    &a.samples(0.25 * cell),
+                    &b,
+                    p.a_deepest.to_array(),
+                    cell,
+                    &what,
+                );
+                check_deepest(
+                    &b,
+                    &b.samples(0.25 * cell),
+                    &a,
+                    p.b_deepest.to_array(),
+                    cell,
+                    &what,
+                );
+            }
         }
     }
     assert!(
@@ -248,36 +270,37 @@ fn every_exponent_agrees_with_dense_sampling() {
         let t = lo * (1.0 + rng.range(-0.1, 0.1));
         place(&mut b, t);
         let sb = b.samples(h);
-        let c = run(&a, &b);
-        let what = format!("pair {i}: {a:?} {b:?}");
-        if !sampled_overlap(&a, &sa, &b, &sb) {
-            let gap = sampled_gap(&sa, &b, &sb, &a);
-            if gap > cell + 2.0 * h {
+        for (method, c) in run_all(&a, &b) {
+            let what = format!("{method}, pair {i}: {a:?} {b:?}");
+            if !sampled_overlap(&a, &sa, &b, &sb) {
+                let gap = sampled_gap(&sa, &b, &sb, &a);
+                if gap > cell + 2.0 * h {
+                    assert!(
+                        !c.overlap(),
+                        "{what}: apart by {gap}, more than a cell, reported overlapping"
+                    );
+                    checked_sep += 1;
+                }
+            } else if !c.overlap() {
+                // Reported apart: then no point may be a cell deep inside both. Look for one on a
+                // grid over the common part of the boxes, deepest candidates first.
+                let deep = deepest_sampled_point(&a, &sa, &b, &sb, cell);
                 assert!(
-                    !c.overlap(),
-                    "{what}: apart by {gap}, more than a cell, reported overlapping"
+                    deep < cell + h,
+                    "{what}: a point {deep} deep in both, reported apart"
                 );
-                checked_sep += 1;
+            } else {
+                checked_ov += 1;
             }
-        } else if !c.overlap() {
-            // Reported apart: then no point may be a cell deep inside both. Look for one on a
-            // grid over the common part of the boxes, deepest candidates first.
-            let deep = deepest_sampled_point(&a, &sa, &b, &sb, cell);
-            assert!(
-                deep < cell + h,
-                "{what}: a point {deep} deep in both, reported apart"
-            );
-        } else {
-            checked_ov += 1;
-        }
-        check_points(&a, &b, &c, &what);
-        // Where the exponents are at least 1 the gradient is bounded and the depth comparable.
-        if let Some(p) = c
-            .penetration
-            .filter(|_| a.e.iter().chain(&b.e).all(|&e| e >= 1.0))
-        {
-            check_deepest(&a, &sa, &b, p.a_deepest.to_array(), cell, &what);
-            check_deepest(&b, &sb, &a, p.b_deepest.to_array(), cell, &what);
+            check_points(&a, &b, &c, &what);
+            // Where the exponents are at least 1 the gradient is bounded and the depth comparable.
+            if let Some(p) = c
+                .penetration
+                .filter(|_| a.e.iter().chain(&b.e).all(|&e| e >= 1.0))
+            {
+                check_deepest(&a, &sa, &b, p.a_deepest.to_array(), cell, &what);
+                check_deepest(&b, &sb, &a, p.b_deepest.to_array(), cell, &what);
+            }
         }
     }
     eprintln!("decided: {checked_sep} apart, {checked_ov} overlapping");

@@ -17,7 +17,7 @@ mod common;
 use common::{Rng, Shape, to_lib};
 use std::f64::consts::{FRAC_PI_2, SQRT_2, TAU};
 
-use supergrain::contact::contact_wall;
+use supergrain::contact::{contact_wall, contact_wall_quadtree};
 use supergrain::shape::HalfPlane;
 use supergrain::subdivision::Precision;
 
@@ -162,7 +162,12 @@ fn random_shape(rng: &mut Rng) -> Shape {
     };
     Shape {
         s,
-        e: [random_exponent(rng), random_exponent(rng)],
+        e: if rng.below(3) == 0 {
+            let e = random_exponent(rng);
+            [e, e]
+        } else {
+            [random_exponent(rng), random_exponent(rng)]
+        },
         c: [rng.range(-5.0, 5.0), rng.range(-5.0, 5.0)],
         angle,
     }
@@ -174,6 +179,8 @@ struct Tally {
     apart: u32,
     certified: u32,
     overlaps: u32,
+    /// Overlaps answered by the certified path (no quadtree cell).
+    newton: u32,
 }
 
 fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
@@ -201,79 +208,93 @@ fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
         let depth_ref = wall.d - extreme;
 
         let (shape, pose) = to_lib(&sh);
-        let got = contact_wall(&shape, &pose, &lib_wall, &precision);
+        // Both ways: the certified path (with its quadtree fallback) and the quadtree alone.
+        for (method, got) in [
+            (
+                "certified",
+                contact_wall(&shape, &pose, &lib_wall, &precision),
+            ),
+            (
+                "quadtree",
+                contact_wall_quadtree(&shape, &pose, &lib_wall, &precision),
+            ),
+        ] {
+            if method == "certified" && got.overlap() && got.cells == 0 {
+                tally.newton += 1;
+            }
 
-        // The final cells' half-diagonal: the region is inside the shape's box, whose longest
-        // side is at most the rotated rectangle's.
-        let cell = sh.rect_box_longest() / f64::from(1u32 << precision.depth()) * (1.0 + 1e-6);
-        let rho = cell * SQRT_2 / 2.0;
-        let what = format!("case {case}, {side:?} at {}: {sh:?}", wall.d);
+            // The final cells' half-diagonal: the region is inside the shape's box, whose longest
+            // side is at most the rotated rectangle's.
+            let cell = sh.rect_box_longest() / f64::from(1u32 << precision.depth()) * (1.0 + 1e-6);
+            let rho = cell * SQRT_2 / 2.0;
+            let what = format!("{method}, case {case}, {side:?} at {}: {sh:?}", wall.d);
 
-        // Clear of the wall by more than the sampling error: no point of the shape is in the
-        // wall, and the overlap the library reports is a proof, so there must be none.
-        let tiny = 1e-12 * (1.0 + wall.d.abs() + size);
-        if depth_ref < -(h + tiny) {
-            tally.apart += 1;
+            // Clear of the wall by more than the sampling error: no point of the shape is in the
+            // wall, and the overlap the library reports is a proof, so there must be none.
+            let tiny = 1e-12 * (1.0 + wall.d.abs() + size);
+            if depth_ref < -(h + tiny) {
+                tally.apart += 1;
+                assert!(
+                    !got.overlap(),
+                    "{what}: clear by {} yet overlap {got:?}",
+                    -depth_ref
+                );
+            }
+
+            // A disk of radius rho (with a margin) inside both: the quadtree must see it.
+            let certified = deepest_disk(&sh, &wall, &samples, h, 1.05 * rho, 0.5 * rho, depth_ref);
+            if let Some(z) = certified {
+                tally.certified += 1;
+                assert!(
+                    got.overlap(),
+                    "{what}: a disk of radius {rho} at depth {z} is inside both, yet no overlap"
+                );
+            }
+
+            let Some(pen) = got.penetration else {
+                continue;
+            };
+            tally.overlaps += 1;
+            let p = pen.deepest.to_array();
+            let z = -wall.g(p);
+            assert!(sh.f(p) <= 1e-12, "{what}: deepest {p:?} outside the shape");
+            assert!(z > 0.0, "{what}: deepest {p:?} not in the wall");
+            // No deeper than the shape goes, and as deep as any certified point less a cell.
             assert!(
-                !got.overlap(),
-                "{what}: clear by {} yet overlap {got:?}",
-                -depth_ref
+                z <= depth_ref + h + tiny,
+                "{what}: deepest at depth {z}, the shape only reaches {depth_ref}"
+            );
+            if let Some(zq) = certified {
+                assert!(
+                    z >= zq - rho,
+                    "{what}: deepest at depth {z}, but a final midpoint at depth >= {} is inside both",
+                    zq - rho
+                );
+            }
+
+            // The push takes the deepest point exactly onto the wall's surface, along its normal.
+            let push = pen.push.to_array();
+            let landed = [p[0] + push[0], p[1] + push[1]];
+            let ulp = 4.0 * f64::EPSILON * (wall.d.abs() + z + p[0].abs().max(p[1].abs()));
+            assert!(
+                wall.g(landed).abs() <= ulp,
+                "{what}: deepest {p:?} + push {push:?} = {landed:?}, off the wall by {}",
+                wall.g(landed)
+            );
+            assert_eq!(
+                wall.tangent(push),
+                0.0,
+                "{what}: push {push:?} not perpendicular"
+            );
+            assert!(
+                wall.along(push) > 0.0,
+                "{what}: push {push:?} points into the wall"
+            );
+            assert!(
+                (wall.along(push) - z).abs() <= ulp,
+                "{what}: push {push:?} is not the depth {z}"
             );
         }
-
-        // A disk of radius rho (with a margin) inside both: the quadtree must see it.
-        let certified = deepest_disk(&sh, &wall, &samples, h, 1.05 * rho, 0.5 * rho, depth_ref);
-        if let Some(z) = certified {
-            tally.certified += 1;
-            assert!(
-                got.overlap(),
-                "{what}: a disk of radius {rho} at depth {z} is inside both, yet no overlap"
-            );
-        }
-
-        let Some(pen) = got.penetration else {
-            continue;
-        };
-        tally.overlaps += 1;
-        let p = pen.deepest.to_array();
-        let z = -wall.g(p);
-        assert!(sh.f(p) <= 1e-12, "{what}: deepest {p:?} outside the shape");
-        assert!(z > 0.0, "{what}: deepest {p:?} not in the wall");
-        // No deeper than the shape goes, and as deep as any certified point less a cell.
-        assert!(
-            z <= depth_ref + h + tiny,
-            "{what}: deepest at depth {z}, the shape only reaches {depth_ref}"
-        );
-        if let Some(zq) = certified {
-            assert!(
-                z >= zq - rho,
-                "{what}: deepest at depth {z}, but a final midpoint at depth >= {} is inside both",
-                zq - rho
-            );
-        }
-
-        // The push takes the deepest point exactly onto the wall's surface, along its normal.
-        let push = pen.push.to_array();
-        let landed = [p[0] + push[0], p[1] + push[1]];
-        let ulp = 4.0 * f64::EPSILON * (wall.d.abs() + z + p[0].abs().max(p[1].abs()));
-        assert!(
-            wall.g(landed).abs() <= ulp,
-            "{what}: deepest {p:?} + push {push:?} = {landed:?}, off the wall by {}",
-            wall.g(landed)
-        );
-        assert_eq!(
-            wall.tangent(push),
-            0.0,
-            "{what}: push {push:?} not perpendicular"
-        );
-        assert!(
-            wall.along(push) > 0.0,
-            "{what}: push {push:?} points into the wall"
-        );
-        assert!(
-            (wall.along(push) - z).abs() <= ulp,
-            "{what}: push {push:?} is not the depth {z}"
-        );
     }
     tally
 }
@@ -281,7 +302,10 @@ fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
 fn check_tally(t: &Tally, cases: u32) {
     // Each kind of assertion ran on a fair share of the cases.
     assert!(
-        t.apart >= cases / 10 && t.certified >= cases / 3 && t.overlaps >= cases / 3,
+        t.apart >= cases / 10
+            && t.certified >= cases / 3
+            && t.overlaps >= cases / 3
+            && t.newton >= cases / 10,
         "{t:?}"
     );
 }

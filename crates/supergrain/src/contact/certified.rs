@@ -15,8 +15,8 @@
 //!   it lies strictly beyond that line, then `f_B > c` on the half-plane and so on all of A.
 //! - With `c = f_B(A1) - tau`, this proves that no point of A is deeper in B than `A1` by more
 //!   than `tau`, half a final quadtree cell times `|grad f_B(A1)|`: about the quadtree's own
-//!   accuracy. With `c = 0` it proves that the shapes are apart. Pairs within rounding of
-//!   touching prove neither and go to the quadtree.
+//!   accuracy. With `c` just below 0 it proves that A reaches less than half a final cell into
+//!   B: apart, or touching within the quadtree's precision (its "no overlap").
 //! - `A1` itself counts only when an interval evaluation proves it inside both shapes, as for
 //!   the quadtree's midpoints.
 //!
@@ -27,7 +27,7 @@
 
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
-use crate::shape::{Pose, Superellipse, abs_pow};
+use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow};
 
 /// A relative pad over the rounding of the certificate's formulas (module docs).
 const PAD: f64 = 1e-12;
@@ -37,7 +37,8 @@ const MAX_ITERATIONS: u32 = 16;
 /// What the certified path can prove about a pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Certified {
-    /// No point of A lies in B: proven apart.
+    /// No point of A lies in B deeper than half a final cell: apart, or touching within the
+    /// quadtree's precision.
     Apart,
     /// `A1` and `A2`, each in its own shape's frame, proven inside both shapes and deepest up to
     /// the tolerance.
@@ -100,7 +101,7 @@ pub struct WarmStart {
 }
 
 enum Deepest {
-    /// No point of `own` lies in `other`.
+    /// No point of `own` lies in `other` deeper than half a final cell.
     Beyond,
     /// The point of `own` most interior to `other` (up to `tau`), proven inside both.
     At(Vec2),
@@ -141,10 +142,17 @@ fn deepest(
     if f_other.hi < 0.0 && f_own.hi < 0.0 {
         return proves_above(plane, other, rel, f_other.hi - tau).then_some((Deepest::At(x), x));
     }
-    // Apart only with a proof that no point of own is in other at all: "within a cell of
-    // touching" in f is not within a cell in distance where |grad f| varies along a thin shape,
-    // so touching pairs go to the quadtree.
-    proves_above(plane, other, rel, 0.0).then_some((Deepest::Beyond, x))
+    // No overlap to report: a proof that no point of own is deeper in other than `touch`.
+    // Euler's identity for the homogeneous `h = f + 1` gives, for `y` in other with
+    // `f(y) >= -touch`, `f(t y) + 1 >= t^e_min (1 - touch)`: `y` scaled by
+    // `t = (1 - touch)^(-1/e_min) ~ 1 + touch / e_min` about other's centre is outside, a
+    // distance at most `touch R / e_min` away (`R` other's bounding radius). With
+    // `touch = cell e_min / (2 R)` that is half a final cell: the quadtree's meaning of "no
+    // overlap" (within a cell of touching), in distance, on any shape. Resting grains touch to
+    // within rounding, and this keeps them off the quadtree.
+    let e_min = other.exponents()[0].min(other.exponents()[1]);
+    let touch = 0.5 * cell * e_min / other.bounding_radius();
+    proves_above(plane, other, rel, -touch).then_some((Deepest::Beyond, x))
 }
 
 /// `|v|` by a square root: `hypot`, which guards against overflow these magnitudes never
@@ -165,6 +173,66 @@ fn root(x: f64, e: f64) -> f64 {
     } else {
         x.powf(1.0 / e)
     }
+}
+
+/// A shape against a wall by the certified path: the point of the shape deepest in the wall is
+/// its support point in the direction into the wall, in closed form (Hölder) for a convex shape
+/// with equal exponents. Kept only when proven inside the shape and the wall, and deepest up to
+/// half a final cell by the support function's upper bound; proven apart by the same bound.
+/// `None`: no proof (or another shape), the caller runs the quadtree.
+pub(crate) fn certified_wall(
+    shape: &Superellipse,
+    pose: &Pose,
+    wall: &HalfPlane,
+    cell: f64,
+) -> Option<Option<Vec2>> {
+    let [e, ey] = shape.exponents();
+    if e != ey || e <= 1.0 {
+        return None;
+    }
+    let n = wall.normal();
+    let c = pose.center();
+    let d = wall.offset();
+    // Into the wall, in the shape's frame.
+    let m = pose.rotation().apply_inverse(-n);
+    let s = shape.semi_axes();
+    let h_up = support_up(s, [e, e], m)? + PAD * (s.x + s.y);
+    let (tx, ty) = (n.x * c.x, n.y * c.y);
+    // A lower bound of min g = n . c - d - h(-n) over the shape.
+    let min_lo = tx + ty - d - h_up - PAD * (tx.abs() + ty.abs() + d.abs() + h_up);
+    if min_lo > 0.0 {
+        return Some(None);
+    }
+    // The support point: (s_x u, s_y v) with (u, v) = sgn (|A|, |B|)^(q-1) / ||(A, B)||_q^(q-1),
+    // A = m_x s_x, B = m_y s_y, 1/e + 1/q = 1.
+    let (a, b) = (m.x * s.x, m.y * s.y);
+    let q = e / (e - 1.0);
+    let big = a.abs().max(b.abs());
+    if !(big > 0.0 && big.is_finite()) {
+        return None;
+    }
+    let (ra, rb) = (a.abs() / big, b.abs() / big);
+    let power = |r: f64, k: f64| {
+        if e == 2.0 {
+            r.powi(k as i32)
+        } else {
+            r.powf(k)
+        }
+    };
+    let norm = (power(ra, q) + power(rb, q)).powf(1.0 / q);
+    let u = a.signum() * power(ra / norm, q - 1.0);
+    let v = b.signum() * power(rb / norm, q - 1.0);
+    let local = Vec2::new(s.x * u, s.y * v) * (1.0 - 1e-9);
+    let x = pose.to_world(local);
+    if !x.is_finite() || PlacedSuperellipse::new(*shape, *pose).enclose_point(x).hi >= 0.0 {
+        return None;
+    }
+    let (gx, gy) = (n.x * x.x, n.y * x.y);
+    let g_hi = gx + gy - d + PAD * (gx.abs() + gy.abs() + d.abs()) + f64::MIN_POSITIVE;
+    if g_hi < 0.0 && g_hi - min_lo <= 0.5 * cell {
+        return Some(Some(x));
+    }
+    None
 }
 
 /// `f`, its gradient and the diagonal of its Hessian for one axis term `|c / s|^e`, with no
@@ -532,10 +600,22 @@ mod tests {
                 .map(|&p| other.value(&rel, p))
                 .fold(f64::INFINITY, f64::min);
             match answer {
-                Deepest::Beyond => assert!(
-                    sampled_min > 0.0,
-                    "case {case}: apart, but sampled {sampled_min}"
-                ),
+                Deepest::Beyond => {
+                    // No sampled point of own is more than half a cell inside other, measured
+                    // along the ray from other's centre (exponents are equal here).
+                    let e = other.exponents()[0];
+                    for &p in &pts {
+                        let f = other.value(&rel, p);
+                        if f < 0.0 {
+                            let q = rel.to_local(p);
+                            let depth = ((f + 1.0).powf(-1.0 / e) - 1.0) * len(q);
+                            assert!(
+                                depth <= 0.5 * cell * (1.0 + 1e-6) + 1e-12,
+                                "case {case}: apart, but {p:?} is {depth} deep"
+                            );
+                        }
+                    }
+                }
                 Deepest::At(p) => {
                     overlaps += 1;
                     assert!(

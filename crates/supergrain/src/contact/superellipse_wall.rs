@@ -1,3 +1,4 @@
+use super::certified;
 use super::{WallContact, WallPenetration};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{HalfPlane, Pose, Superellipse};
@@ -5,10 +6,40 @@ use crate::subdivision::{CellSink, Precision, deepest_points};
 
 /// The contact of a placed superellipse with a wall (paper III-B).
 ///
-/// The same quadtree runs on `shape box ∩ wall half-plane` (paper Fig. 8), in world
-/// coordinates, where that region is a thin axis-aligned strip for the box's walls. `B` is the
-/// projection of the deepest point on the wall's surface, with no bisection needed.
+/// A convex shape with equal exponents is answered by the certified path
+/// ([`super::certified`]): its support point towards the wall, in closed form, proven inside
+/// both and deepest up to half a final cell, or the shape proven clear of the wall. Otherwise,
+/// and when that proof fails, the quadtree ([`contact_wall_quadtree`]).
 pub fn contact_wall(
+    shape: &Superellipse,
+    pose: &Pose,
+    wall: &HalfPlane,
+    precision: &Precision,
+) -> WallContact {
+    let placed = PlacedSuperellipse::new(*shape, *pose);
+    let Some(region) = placed.bounding_box().intersection(&wall.bounding_box()) else {
+        return WallContact {
+            penetration: None,
+            cells: 0,
+        };
+    };
+    match certified::certified_wall(shape, pose, wall, precision.cell_size(&region)) {
+        Some(deepest) => WallContact {
+            penetration: deepest.map(|d| WallPenetration {
+                deepest: d,
+                push: wall.project(d) - d,
+            }),
+            cells: 0,
+        },
+        None => contact_wall_with_cells(shape, pose, wall, precision, &mut ()),
+    }
+}
+
+/// The paper's quadtree alone (paper III-B): the quadtree runs on `shape box ∩ wall
+/// half-plane` (paper Fig. 8), in world coordinates, where that region is a thin axis-aligned
+/// strip for the box's walls. `B` is the projection of the deepest point on the wall's
+/// surface, with no bisection needed.
+pub fn contact_wall_quadtree(
     shape: &Superellipse,
     pose: &Pose,
     wall: &HalfPlane,

@@ -15,7 +15,7 @@ pub use response::{project, safe_push};
 use crate::broad_phase::BroadPhase;
 use crate::contact::{
     Contact, Penetration, WallContact, WallPenetration, contact, contact_quadtree, contact_wall,
-    disk_disk,
+    contact_wall_quadtree, disk_disk,
 };
 use crate::geometry::{Aabb, Vec2};
 use crate::shape::{HalfPlane, Pose, Superellipse};
@@ -238,8 +238,11 @@ pub fn grain_contact(settings: &Settings, a: &Body, b: &Body) -> Contact {
 /// Grain-wall contact by the chosen narrow phase.
 pub fn wall_contact(settings: &Settings, a: &Body, wall: &HalfPlane) -> WallContact {
     match settings.narrow_phase {
-        NarrowPhase::Interval | NarrowPhase::Quadtree => {
+        NarrowPhase::Interval => {
             contact_wall(&a.shape, &a.pose(), wall, &settings.wall_precision())
+        }
+        NarrowPhase::Quadtree => {
+            contact_wall_quadtree(&a.shape, &a.pose(), wall, &settings.wall_precision())
         }
         NarrowPhase::Analytic => {
             let r = a.shape.semi_axes().x;
