@@ -494,15 +494,22 @@ fn every_example_scene_file_parses_and_the_preset_files_are_the_presets() {
     // semi-axes, here the pebbles' (0.35, 0.35), not the rice's (0.45, 0.18) nor the blocks'
     // (0.3, 0.35). The 1,000-grain pour keeps the paper's order (0) as measured.
     let auto = 8.0 * 0.35f64.hypot(0.35);
-    for (name, grains, width) in [
-        ("pour-1000", 1000, 0.0),
-        ("pour-10k", 10_000, auto),
-        ("pour-100k", 100_000, auto),
+    // It keeps the paper's quadtree too, as measured; the others take the default.
+    use supergrain::solver::NarrowPhase;
+    for (name, grains, width, narrow) in [
+        ("pour-1000", 1000, 0.0, NarrowPhase::Quadtree),
+        ("pour-10k", 10_000, auto, NarrowPhase::Interval),
+        ("pour-100k", 100_000, auto, NarrowPhase::Interval),
     ] {
         let text = std::fs::read_to_string(format!("../../examples/scenes/{name}.toml")).unwrap();
         let scene = Scene::from_toml(&text).unwrap();
         assert_eq!(scene.grain_count(), grains, "{name}");
         assert!((scene.settings.strip_width - width).abs() < 1e-12, "{name}");
+        assert_eq!(scene.settings.narrow_phase, narrow, "{name}");
+        // And a dump keeps it.
+        let world = World::new(&scene);
+        let back = Dump::of(&world).to_world().unwrap();
+        assert_eq!(back.settings.narrow_phase, narrow, "{name}");
     }
 }
 
