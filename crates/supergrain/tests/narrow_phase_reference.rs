@@ -156,6 +156,7 @@ fn ellipses_agree_with_perram_wertheim() {
         b.c = [a.c[0] + t * dir.cos(), a.c[1] + t * dir.sin()];
         let mu = perram_wertheim(&a, &b).sqrt();
         let cell = cell_diagonal_bound(&a, &b, DEPTH);
+        let (sa, sb) = (a.samples(0.25 * cell), b.samples(0.25 * cell));
         for (method, c) in run_all(&a, &b) {
             let what = format!("{method}, pair {i}: {a:?} {b:?} mu {mu}");
             // Scaling by mu makes them touch; a convex shape holding a disk of radius r about its
@@ -176,22 +177,8 @@ fn ellipses_agree_with_perram_wertheim() {
             }
             check_points(&a, &b, &c, &what);
             if let Some(p) = c.penetration {
-                check_deepest(
-                    &a,
-                    &a.samples(0.25 * cell),
-                    &b,
-                    p.a_deepest.to_array(),
-                    cell,
-                    &what,
-                );
-                check_deepest(
-                    &b,
-                    &b.samples(0.25 * cell),
-                    &a,
-                    p.b_deepest.to_array(),
-                    cell,
-                    &what,
-                );
+                check_deepest(&a, &sa, &b, p.a_deepest.to_array(), cell, &what);
+                check_deepest(&b, &sb, &a, p.b_deepest.to_array(), cell, &what);
             }
         }
     }

@@ -8,9 +8,10 @@
 //! axis and no `powf` for the exponents 1, 2, 3, 4) finds it in a handful of iterations.
 //!
 //! Newton alone proves nothing: it may stop at the far side of A, or not converge. The answer is
-//! kept only with a certificate that needs no convexity, only support functions:
-//! - A lies in the half-plane `n . y <= h_A(n)` for any `n` ([`Superellipse::local_support`] is a
-//!   rigorous upper bound of `h_A`). We take `n` = A's normal at the Newton point.
+//! kept only with a certificate built from half-planes and support functions:
+//! - A lies in a half-plane `n . y <= s`, `n` A's normal at the Newton point: below its tangent
+//!   there, for a convex A (`f_A` is convex), and for any shape below `h_A(n)`
+//!   ([`Superellipse::local_support`] is a rigorous upper bound of the support function).
 //! - B's sublevel set `{f_B <= c}` is the superellipse with semi-axes `s_i (1 + c)^(1/e_i)`. If
 //!   it lies strictly beyond that line, then `f_B > c` on the half-plane and so on all of A.
 //! - With `c = f_B(A1) - tau`, this proves that no point of A is deeper in B than `A1` by more
@@ -45,18 +46,20 @@ pub(crate) enum Certified {
     Overlap { a1: Vec2, a2: Vec2 },
 }
 
-/// Whether both shapes are convex (every exponent at least 1): the only pairs worth a Newton
-/// solve. (The certificate itself holds for any shapes.)
+/// Whether both shapes are convex: the only pairs worth a Newton solve. (The certificate itself
+/// holds for any shapes.)
 pub(crate) fn eligible(a: &Superellipse, b: &Superellipse) -> bool {
-    a.exponents()
-        .iter()
-        .chain(b.exponents().iter())
-        .all(|&e| e >= 1.0)
+    convex(a) && convex(b)
 }
 
-/// The certified answer for `a` and `b` placed at `rel_ab` in `a`'s frame, or `None` when no certificate
-/// could be had (the caller then runs the quadtree). `cell`: the quadtree's final cell size for
-/// this pair, which sets the tolerance.
+/// Every exponent at least 1: the shape, and its `f`, are convex.
+fn convex(s: &Superellipse) -> bool {
+    s.exponents().iter().all(|&e| e >= 1.0)
+}
+
+/// The certified answer for `a` and `b` placed at `rel_ab` in `a`'s frame, or `None` when no
+/// certificate could be had (the caller then runs the quadtree). `cell`: the quadtree's final
+/// cell size for this pair, which sets the tolerance.
 ///
 /// `warm`: where the last query of this pair found its points (a persisting contact), updated
 /// with this query's.
@@ -131,8 +134,7 @@ fn deepest(
     // A hair towards own's centre, so that being inside own survives rounding (own is
     // star-shaped about its centre).
     let x = x * (1.0 - 1e-9);
-    let (_, grad_other) = other.value_and_gradient(rel, x);
-    let tau = 0.5 * cell * len(grad_other);
+    let tau = 0.5 * cell * len(other.gradient(rel, x));
     if !tau.is_finite() {
         return None;
     }
@@ -313,8 +315,8 @@ fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
 
 /// Newton on the conditions for `argmin f_other` over `own`'s boundary: `grad f_other + l grad
 /// f_own = 0`, `f_own = 0`, in `own`'s frame, started where the line between the centres leaves
-/// `own` (or from `start`, projected on the boundary). Returns the last iterate, projected on the boundary (convergence is not required: the
-/// certificate decides).
+/// `own` (or from `start`, projected on the boundary). Returns the last iterate, projected on
+/// the boundary (convergence is not required: the certificate decides).
 fn newton(
     own: &Superellipse,
     other: &Superellipse,
@@ -328,15 +330,17 @@ fn newton(
     let size = own.min_semi_axis();
     let max_step = 0.25 * size;
     let id = Rotation::IDENTITY;
-    let (_, ga, _) = value_gradient_hessian(own, id, Vec2::ZERO, x);
-    let (_, gb, _) = value_gradient_hessian(other, rot, c, x);
-    let mut l = len(gb) / len(ga);
-    if !l.is_finite() {
-        return None;
-    }
+    // The multiplier starts from the gradients at the start, as the first iteration finds them.
+    let mut l = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
         let (fa, ga, ha) = value_gradient_hessian(own, id, Vec2::ZERO, x);
         let (_, gb, hb) = value_gradient_hessian(other, rot, c, x);
+        if l.is_nan() {
+            l = len(gb) / len(ga);
+            if !l.is_finite() {
+                return None;
+            }
+        }
         let r = [gb.x + l * ga.x, gb.y + l * ga.y, fa];
         let j = [
             [hb[0] + l * ha[0], hb[1] + l * ha[1], ga.x],
@@ -410,7 +414,7 @@ fn half_plane(own: &Superellipse, x: Vec2, f_own_lo: f64) -> Option<(Vec2, f64)>
     if !n.is_finite() || n == Vec2::ZERO {
         return None;
     }
-    if !own.exponents().iter().all(|&e| e >= 1.0) {
+    if !convex(own) {
         return Some((n, support_up(own.semi_axes(), own.exponents(), n)?));
     }
     let (tx, ty) = (n.x * x.x, n.y * x.y);

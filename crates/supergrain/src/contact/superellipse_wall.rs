@@ -1,5 +1,6 @@
 use super::certified;
 use super::{WallContact, WallPenetration};
+use crate::geometry::Aabb;
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{HalfPlane, Pose, Superellipse};
 use crate::subdivision::{CellSink, Precision, deepest_points};
@@ -16,8 +17,7 @@ pub fn contact_wall(
     wall: &HalfPlane,
     precision: &Precision,
 ) -> WallContact {
-    let placed = PlacedSuperellipse::new(*shape, *pose);
-    let Some(region) = placed.bounding_box().intersection(&wall.bounding_box()) else {
+    let Some((placed, region)) = frame(shape, pose, wall) else {
         return WallContact {
             penetration: None,
             cells: 0,
@@ -31,7 +31,7 @@ pub fn contact_wall(
             }),
             cells: 0,
         },
-        None => contact_wall_with_cells(shape, pose, wall, precision, &mut ()),
+        None => quadtree(&placed, wall, &region, precision, &mut ()),
     }
 }
 
@@ -56,14 +56,34 @@ pub fn contact_wall_with_cells<S: CellSink + ?Sized>(
     precision: &Precision,
     sink: &mut S,
 ) -> WallContact {
-    let placed = PlacedSuperellipse::new(*shape, *pose);
-    let Some(region) = placed.bounding_box().intersection(&wall.bounding_box()) else {
-        return WallContact {
+    match frame(shape, pose, wall) {
+        Some((placed, region)) => quadtree(&placed, wall, &region, precision, sink),
+        None => WallContact {
             penetration: None,
             cells: 0,
-        };
-    };
-    let found = deepest_points(&placed, wall, &region, precision, false, sink);
+        },
+    }
+}
+
+/// The placed shape and `shape box ∩ wall half-plane`, or `None` when they do not meet.
+fn frame(
+    shape: &Superellipse,
+    pose: &Pose,
+    wall: &HalfPlane,
+) -> Option<(PlacedSuperellipse, Aabb)> {
+    let placed = PlacedSuperellipse::new(*shape, *pose);
+    let region = placed.bounding_box().intersection(&wall.bounding_box())?;
+    Some((placed, region))
+}
+
+fn quadtree<S: CellSink + ?Sized>(
+    placed: &PlacedSuperellipse,
+    wall: &HalfPlane,
+    region: &Aabb,
+    precision: &Precision,
+    sink: &mut S,
+) -> WallContact {
+    let found = deepest_points(placed, wall, region, precision, false, sink);
     WallContact {
         penetration: found.in_a.map(|d| WallPenetration {
             deepest: d.point,

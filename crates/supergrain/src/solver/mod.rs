@@ -203,22 +203,33 @@ pub struct StepStats {
     pub tests: usize,
 }
 
+/// The quadtree's precision for a pair: two levels deeper when a star is in it.
+fn pair_precision(settings: &Settings, a: &Body, b: &Body) -> Precision {
+    let star = |b: &Body| b.shape.exponents().iter().any(|&e| e < 1.0);
+    if star(a) || star(b) {
+        settings.star_precision()
+    } else {
+        settings.precision
+    }
+}
+
 /// Grain-grain contact by the chosen narrow phase.
 pub fn grain_contact(settings: &Settings, a: &Body, b: &Body) -> Contact {
     match settings.narrow_phase {
-        NarrowPhase::Interval | NarrowPhase::Quadtree => {
-            let star = |b: &Body| b.shape.exponents().iter().any(|&e| e < 1.0);
-            let precision = if star(a) || star(b) {
-                settings.star_precision()
-            } else {
-                settings.precision
-            };
-            if settings.narrow_phase == NarrowPhase::Quadtree {
-                contact_quadtree(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision)
-            } else {
-                contact(&a.shape, &a.pose(), &b.shape, &b.pose(), &precision)
-            }
-        }
+        NarrowPhase::Interval => contact(
+            &a.shape,
+            &a.pose(),
+            &b.shape,
+            &b.pose(),
+            &pair_precision(settings, a, b),
+        ),
+        NarrowPhase::Quadtree => contact_quadtree(
+            &a.shape,
+            &a.pose(),
+            &b.shape,
+            &b.pose(),
+            &pair_precision(settings, a, b),
+        ),
         NarrowPhase::Analytic => {
             let (ra, rb) = (a.shape.semi_axes().x, b.shape.semi_axes().x);
             let penetration = disk_disk(a.center, ra, b.center, rb).map(|(n, depth)| Penetration {
