@@ -648,6 +648,50 @@ fn two_circle_world(bodies: Vec<supergrain::solver::Body>) -> World {
     )
 }
 
+/// A grain creeping away from under a sleeper, by less than `sleep_radius` a step, still wakes
+/// it. A circle sleeps in the hollow of two sleeping circles on the floor; the left one is then
+/// driven left at 0.0015 a step (the sleep radius is 0.002) for 200 steps. Resting on the two,
+/// the top circle's centre is at most `r + sqrt(4 r^2 - (d / 2)^2)` high for their final
+/// distance `d` (and lower still if it drove them apart as it sank): a sleeper left in the air
+/// would stay 0.09 above that.
+#[test]
+fn a_sleeper_wakes_when_its_support_creeps_away() {
+    let r: f64 = 0.5;
+    let top = r + (4.0 * r * r - r * r).sqrt();
+    // The two below sleep first, so that they hold the third as walls would (frictionless, it
+    // would otherwise push them apart).
+    let mut world = two_circle_world(vec![circle_at(r, -r, r), circle_at(r, r, r)]);
+    for _ in 0..world.settings.sleep_steps + 50 {
+        world.step();
+    }
+    world.bodies.push(circle_at(r, 0.0, top));
+    for _ in 0..world.settings.sleep_steps + 50 {
+        world.step();
+    }
+    assert_eq!(world.asleep(), 3, "all three should sleep first");
+    let start = world.bodies[2].center;
+    assert!((start.y - top).abs() < 0.02, "top circle at {start:?}");
+    let creep = 0.0015;
+    assert!(creep < world.settings.sleep_radius);
+    for _ in 0..200 {
+        let b = &mut world.bodies[0];
+        b.calm = 0;
+        b.previous_center = b.center + supergrain::geometry::Vec2::new(creep, 0.0);
+        world.step();
+    }
+    for _ in 0..300 {
+        world.step();
+    }
+    let [left, right, upper] = [0, 1, 2].map(|i| world.bodies[i].center);
+    let d = right.x - left.x;
+    assert!(d > 2.0 * r + 0.2, "the left circle crept only to {left:?}");
+    let highest = r + (4.0 * r * r - 0.25 * d * d).max(0.0).sqrt();
+    assert!(
+        upper.y <= highest + 0.01,
+        "the top circle stayed at {upper:?}, above {highest} (it was at {start:?})"
+    );
+}
+
 /// Sleeping: a grain resting on another falls asleep and stops moving at all; when the grain
 /// under it is knocked away it wakes and falls to the floor (free fall of about 0.5 takes well
 /// under 200 steps at terminal speed 0.98); a grain dropped onto a sleeper wakes it.

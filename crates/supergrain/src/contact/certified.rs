@@ -36,14 +36,20 @@ const PAD: f64 = 1e-12;
 const MAX_ITERATIONS: u32 = 16;
 
 /// What the certified path can prove about a pair.
-#[derive(Clone, Copy, Debug, PartialEq)]
+// Returned once per query and taken apart at once: boxing the placed shape would allocate.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy, Debug)]
 pub(crate) enum Certified {
     /// No point of A lies in B deeper than half a final cell: apart, or touching within the
     /// quadtree's precision.
     Apart,
     /// `A1` and `A2`, each in its own shape's frame, proven inside both shapes and deepest up to
-    /// the tolerance.
-    Overlap { a1: Vec2, a2: Vec2 },
+    /// the tolerance; and A placed in B's frame (for the push out of A).
+    Overlap {
+        a1: Vec2,
+        a2: Vec2,
+        a_in_b: PlacedSuperellipse,
+    },
 }
 
 /// Whether both shapes are convex: the only pairs worth a Newton solve. (The certificate itself
@@ -64,14 +70,13 @@ fn convex(s: &Superellipse) -> bool {
 /// `warm`: where the last query of this pair found its points (a persisting contact), updated
 /// with this query's.
 pub(crate) fn certified_contact(
-    a: &Superellipse,
-    b: &Superellipse,
-    rel_ab: &Pose,
+    local_a: &PlacedSuperellipse,
+    local_b: &PlacedSuperellipse,
     cell: f64,
     warm: &mut Option<WarmStart>,
 ) -> Option<Certified> {
     let last = warm.take();
-    let a1 = match deepest(a, b, rel_ab, cell, last.map(|w| w.a1))? {
+    let a1 = match deepest(local_a, local_b, cell, last.map(|w| w.a1))? {
         (Deepest::Beyond, x) => {
             *warm = Some(WarmStart { a1: x, a2: None });
             return Some(Certified::Apart);
@@ -80,18 +85,23 @@ pub(crate) fn certified_contact(
     };
     // A1 is inside both: the shapes overlap, so A2 exists; failing to certify it is possible
     // (Newton may fail on B's side) and sends the pair to the quadtree.
-    let rel_ba = rel_ab.inverse();
+    let rel_ba = local_b.pose().inverse();
+    let b_local = PlacedSuperellipse::new(*local_b.shape(), Pose::ORIGIN);
+    let a_in_b = PlacedSuperellipse::new(*local_a.shape(), rel_ba);
     // A2 is near A1 unless the overlap is deep: start there, seen from B, unless known.
-    let start = last
-        .and_then(|w| w.a2)
-        .unwrap_or_else(|| rel_ba.to_world(a1));
-    match deepest(b, a, &rel_ba, cell, Some(start))? {
-        (Deepest::At(a2), _) => {
-            *warm = Some(WarmStart { a1, a2: Some(a2) });
-            Some(Certified::Overlap { a1, a2 })
-        }
-        (Deepest::Beyond, _) => None,
-    }
+    let a1_in_b = rel_ba.to_world(a1);
+    let start = last.and_then(|w| w.a2).unwrap_or(a1_in_b);
+    let a2 = match deepest(&b_local, &a_in_b, cell, Some(start))? {
+        (Deepest::At(a2), _) => a2,
+        // No point of B is deeper in A than the touching tolerance, yet A1 is proven inside
+        // both: an overlap within rounding of touching (resting grains). A1 is then as deep in
+        // A as B's deepest point up to that tolerance (`f_A(A1) <= 0`, and `f_A >= -touch` on
+        // B, where `touch = cell e_min / (2 R)` is at most half a cell times `|grad f_A|` near
+        // A's boundary, by Euler's identity), so it serves as A2.
+        (Deepest::Beyond, _) => a1_in_b,
+    };
+    *warm = Some(WarmStart { a1, a2: Some(a2) });
+    Some(Certified::Overlap { a1, a2, a_in_b })
 }
 
 /// Where the certified path last found a pair's deepest points, each in its own shape's frame
@@ -110,17 +120,21 @@ enum Deepest {
     At(Vec2),
 }
 
-/// The deepest point of `own` in `other`, in `own`'s frame, where `other` is placed at `rel`,
-/// and Newton's point (a warm start). `start`: a point near the answer, if known.
+/// The deepest point of `own` in `other`, in `own`'s frame (`placed_own` at the origin,
+/// `placed_other` where `other` is in that frame), and Newton's point (a warm start).
+/// `start`: a point near the answer, if known.
 fn deepest(
-    own: &Superellipse,
-    other: &Superellipse,
-    rel: &Pose,
+    placed_own: &PlacedSuperellipse,
+    placed_other: &PlacedSuperellipse,
     cell: f64,
     start: Option<Vec2>,
 ) -> Option<(Deepest, Vec2)> {
-    let placed_own = PlacedSuperellipse::new(*own, Pose::ORIGIN);
-    let placed_other = PlacedSuperellipse::new(*other, *rel);
+    let (own, other, rel) = (
+        placed_own.shape(),
+        placed_other.shape(),
+        placed_other.pose(),
+    );
+    debug_assert_eq!(*placed_own.pose(), Pose::ORIGIN);
     let centre = rel.center();
 
     // `own` holds `other`'s centre: that centre is the answer (`f_other >= -1` everywhere).
@@ -183,11 +197,11 @@ fn root(x: f64, e: f64) -> f64 {
 /// half a final cell by the support function's upper bound; proven apart by the same bound.
 /// `None`: no proof (or another shape), the caller runs the quadtree.
 pub(crate) fn certified_wall(
-    shape: &Superellipse,
-    pose: &Pose,
+    placed: &PlacedSuperellipse,
     wall: &HalfPlane,
     cell: f64,
 ) -> Option<Option<Vec2>> {
+    let (shape, pose) = (placed.shape(), placed.pose());
     let [e, ey] = shape.exponents();
     if e != ey || e <= 1.0 {
         return None;
@@ -202,7 +216,10 @@ pub(crate) fn certified_wall(
     let (tx, ty) = (n.x * c.x, n.y * c.y);
     // A lower bound of min g = n . c - d - h(-n) over the shape.
     let min_lo = tx + ty - d - h_up - PAD * (tx.abs() + ty.abs() + d.abs() + h_up);
-    if min_lo > 0.0 {
+    // No point deeper in the wall than half a final cell: apart, or touching within the
+    // quadtree's precision (as for grains in [`deepest`]). Resting grains touch the floor to
+    // within rounding, and this keeps them off the quadtree.
+    if min_lo > -0.5 * cell {
         return Some(None);
     }
     // The support point: (s_x u, s_y v) with (u, v) = sgn (|A|, |B|)^(q-1) / ||(A, B)||_q^(q-1),
@@ -226,7 +243,7 @@ pub(crate) fn certified_wall(
     let v = b.signum() * power(rb / norm, q - 1.0);
     let local = Vec2::new(s.x * u, s.y * v) * (1.0 - 1e-9);
     let x = pose.to_world(local);
-    if !x.is_finite() || PlacedSuperellipse::new(*shape, *pose).enclose_point(x).hi >= 0.0 {
+    if !x.is_finite() || placed.enclose_point(x).hi >= 0.0 {
         return None;
     }
     let (gx, gy) = (n.x * x.x, n.y * x.y);
@@ -594,7 +611,9 @@ mod tests {
             .unwrap();
             total += 1;
             let cell = 1e-3;
-            let Some((answer, _)) = deepest(&own, &other, &rel, cell, None) else {
+            let placed_own = PlacedSuperellipse::new(own, Pose::ORIGIN);
+            let placed_other = PlacedSuperellipse::new(other, rel);
+            let Some((answer, _)) = deepest(&placed_own, &placed_other, cell, None) else {
                 continue;
             };
             certified += 1;
@@ -642,5 +661,68 @@ mod tests {
             certified * 100 >= total * 95,
             "{certified} of {total} certified"
         );
+    }
+
+    /// Grains at rest touch to within rounding. Disks overlapping by `delta` from 1e-13 to 1e-4,
+    /// at any angle, and a disk sunk `delta` into the floor: all answered by the certified path
+    /// (no quadtree cell), with the analytic depth (`ra + rb - distance`, `r - height`) when an
+    /// overlap is reported, and "no overlap" only for depths under half a final cell.
+    #[test]
+    fn touching_disks_are_certified_with_their_analytic_depth() {
+        use crate::contact::{contact, contact_wall};
+        use crate::geometry::Aabb;
+        use crate::subdivision::Precision;
+        let precision = Precision::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let floor = HalfPlane::new(Vec2::new(0.0, 1.0), 0.0).unwrap();
+        for case in 0..200 {
+            let (ra, rb) = (rng.random_range(0.2..0.5), rng.random_range(0.2..0.5));
+            // Half of them where the projection leaves resting grains: a few 1e-10 deep, about
+            // the hair (1e-9 of a radius) a Newton point is moved in to be proven inside.
+            let decades = if case % 2 == 0 {
+                -13.0..-4.0
+            } else {
+                -10.5..-8.5
+            };
+            let delta = 10f64.powf(rng.random_range(decades));
+            let dir: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            let u = Vec2::new(dir.cos(), dir.sin());
+            let c = Vec2::new(rng.random_range(-3.0..3.0), rng.random_range(0.0..3.0));
+            let (a, b) = (
+                Superellipse::circle(ra).unwrap(),
+                Superellipse::circle(rb).unwrap(),
+            );
+            let pa = Pose::new(c, rng.random_range(0.0..6.0)).unwrap();
+            let pb = Pose::new(c + u * (ra + rb - delta), rng.random_range(0.0..6.0)).unwrap();
+            let got = contact(&a, &pa, &b, &pb, &precision);
+            assert_eq!(
+                got.cells, 0,
+                "case {case}: delta {delta:e} went to the quadtree"
+            );
+            // At least the final cell of the pair's region or the floor's (each within a box
+            // of side 2 max(ra, rb)).
+            let side = Aabb::new(Vec2::ZERO, Vec2::new(2.0 * ra.max(rb), 0.0));
+            let cell = precision.cell_size(&side);
+            match got.penetration {
+                Some(p) => {
+                    // A1 lies `delta` deep in B, and B's deepest point as deep in A.
+                    for push in [p.a_push, p.b_push] {
+                        let depth = push.norm();
+                        assert!(
+                            (depth - delta).abs() <= 1e-7,
+                            "case {case}: a push of {depth:e} for an overlap of {delta:e}"
+                        );
+                    }
+                }
+                None => assert!(delta < 0.5 * cell, "case {case}: {delta:e} missed"),
+            }
+            let pose = Pose::new(Vec2::new(c.x, ra - delta), 0.3).unwrap();
+            let wall = contact_wall(&a, &pose, &floor, &precision);
+            assert_eq!(wall.cells, 0, "case {case}: the floor went to the quadtree");
+            match wall.penetration {
+                Some(p) => assert!((p.push.y - delta).abs() <= 1e-7),
+                None => assert!(delta < 0.5 * cell, "case {case}: floor {delta:e} missed"),
+            }
+        }
     }
 }

@@ -19,25 +19,33 @@ pub fn ray_to_boundary<S: ImplicitShape + ?Sized>(
     if f0.is_nan() || f0 >= 0.0 {
         return from;
     }
-    let (mut t1, mut f1) = (t_far, shape.value(at(t_far)));
-    if f1.is_nan() || f1 < 0.0 {
-        // Not outside after all (cannot happen with a true bound): report the far point.
-        return at(t_far);
-    }
-    // Narrow the bracket with a Newton step from `from`, a little long so that it usually
-    // lands outside: the far end is often many times farther than the boundary.
+    // A Newton step from `from`, a little long so that it usually lands outside and closes the
+    // bracket at once: the far end is often many times farther than the boundary, and is then
+    // never evaluated.
+    let mut outside = None;
     let slope = shape.gradient(from).dot(dir);
     if slope > 0.0 {
         let guess = -f0 / slope * 1.05;
-        if guess > 0.0 && guess < t1 {
+        if guess > 0.0 && guess < t_far {
             let fg = shape.value(at(guess));
             if fg >= 0.0 {
-                (t1, f1) = (guess, fg);
+                outside = Some((guess, fg));
             } else if !fg.is_nan() {
                 (t0, f0) = (guess, fg);
             }
         }
     }
+    let (mut t1, mut f1) = match outside {
+        Some(end) => end,
+        None => {
+            let f_far = shape.value(at(t_far));
+            if f_far.is_nan() || f_far < 0.0 {
+                // Not outside after all (cannot happen with a true bound): the far point.
+                return at(t_far);
+            }
+            (t_far, f_far)
+        }
+    };
     // Far below any quadtree cell: the push is exact to ~1e-10 of the shape's size.
     let tol = t_far * 1e-10;
     let mut side = 0i8;

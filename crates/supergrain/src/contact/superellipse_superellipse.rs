@@ -54,13 +54,13 @@ pub fn contact_warm(
         };
     };
     let cell = precision.cell_size(&region);
-    match certified::certified_contact(a, b, local_b.pose(), cell, warm) {
+    match certified::certified_contact(&local_a, &local_b, cell, warm) {
         Some(Certified::Apart) => Contact {
             penetration: None,
             cells: 0,
         },
-        Some(Certified::Overlap { a1, a2 }) => {
-            let local_a_in_b = PlacedSuperellipse::new(*a, local_b.pose().inverse());
+        Some(Certified::Overlap { a1, a2, a_in_b }) => {
+            let local_a_in_b = a_in_b;
             Contact {
                 penetration: Some(Penetration {
                     a_deepest: pose_a.to_world(a1),

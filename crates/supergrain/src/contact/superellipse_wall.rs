@@ -23,7 +23,7 @@ pub fn contact_wall(
             cells: 0,
         };
     };
-    match certified::certified_wall(shape, pose, wall, precision.cell_size(&region)) {
+    match certified::certified_wall(&placed, wall, precision.cell_size(&region)) {
         Some(deepest) => WallContact {
             penetration: deepest.map(|d| WallPenetration {
                 deepest: d,

@@ -80,13 +80,18 @@ impl Pose {
     }
 
     /// Where `other` is, seen from this pose's local frame (`pos12 = pos1^-1 pos2`).
-    /// The result is not re-validated: it is finite whenever both poses are.
+    /// The result is not re-validated: it is finite whenever both poses are. Its rotation is
+    /// the two rotations composed (`R(-theta_1) R(theta_2)`), with no new sine or cosine: a
+    /// contact test asks for one, and `sin_cos` cost a tenth of a circles step.
     pub fn relative(&self, other: &Pose) -> Pose {
-        let angle = other.angle - self.angle;
+        let (r1, r2) = (self.rotation, other.rotation);
         Pose {
             center: self.to_local(other.center),
-            angle,
-            rotation: Rotation::new(angle),
+            angle: other.angle - self.angle,
+            rotation: Rotation {
+                cos: r1.cos * r2.cos + r1.sin * r2.sin,
+                sin: r1.cos * r2.sin - r1.sin * r2.cos,
+            },
         }
     }
 }

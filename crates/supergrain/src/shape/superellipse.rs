@@ -1,5 +1,5 @@
 use super::{Pose, ShapeError, check_positive};
-use crate::geometry::{Aabb, Vec2};
+use crate::geometry::{Aabb, Rotation, Vec2};
 
 /// A superellipse centred at the origin, axis-aligned: `h(x, y) = |x/s_x|^e_x + |y/s_y|^e_y <= 1`
 /// (paper I). `e = 2` is an ellipse, `e > 2` blocky, `1 <= e < 2` diamond-like, `e < 1` a
@@ -146,9 +146,18 @@ impl Superellipse {
     /// The axis-aligned bounding box of the placed shape (paper III-A, Fig. 4).
     pub fn bounding_box(&self, pose: &Pose) -> Aabb {
         let r = pose.rotation();
-        // World axes seen from the local frame: R(-theta) e_x and R(-theta) e_y.
-        let hx = self.local_support(Vec2::new(r.cos, -r.sin));
-        let hy = self.local_support(Vec2::new(r.sin, r.cos));
+        let (hx, hy) = if self.is_circle() || r == Rotation::IDENTITY {
+            // The support along the shape's own axes is its semi-axes, padded as below (the
+            // narrow phase asks this of every pair, in the first shape's frame).
+            let pad = 1.0 + 8.0 * f64::EPSILON;
+            (self.semi_axes.x * pad, self.semi_axes.y * pad)
+        } else {
+            // World axes seen from the local frame: R(-theta) e_x and R(-theta) e_y.
+            (
+                self.local_support(Vec2::new(r.cos, -r.sin)),
+                self.local_support(Vec2::new(r.sin, r.cos)),
+            )
+        };
         let c = pose.center();
         Aabb::new(Vec2::new(c.x - hx, c.y - hy), Vec2::new(c.x + hx, c.y + hy))
     }

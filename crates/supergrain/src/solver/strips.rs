@@ -24,10 +24,10 @@
 use rayon::prelude::*;
 
 use super::{
-    Body, CLOSING_SWEEPS, Context, Settings, StepStats, Walls, Workspace, settle, shock_grain,
-    shock_order, sweep_grain,
+    Body, CLOSING_SWEEPS, Context, Settings, StepStats, Walls, Workspace, rebuild_boxes, settle,
+    shock_grain, shock_order, sweep_grain,
 };
-use crate::broad_phase::{Any, BroadPhase};
+use crate::broad_phase::Any;
 
 /// Fewer strips than this and a box keeps the paper's order: two strips per phase at least.
 pub const MIN_STRIPS: usize = 6;
@@ -186,10 +186,8 @@ impl Local {
     fn run(&mut self, ctx: &Context, turn: Turn) -> (StepStats, usize) {
         let mut stats = StepStats::default();
         let mut work = Workspace::default();
-        work.boxes
-            .extend(self.bodies.iter().map(Body::bounding_box));
         let mut broad = Any::new(ctx.settings.broad_phase);
-        broad.rebuild(&work.boxes);
+        rebuild_boxes(&self.bodies, &mut broad, &mut work);
         let rank: Vec<usize> = match turn {
             Turn::Shock(rank) => self.global.iter().map(|&g| rank[g]).collect(),
             _ => Vec::new(),
