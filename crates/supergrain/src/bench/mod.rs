@@ -430,6 +430,7 @@ pub fn tiled(
             center: b.center + shift,
             previous_center: b.previous_center + shift,
             anchor: b.anchor + shift,
+            drift_anchor: b.drift_anchor + shift,
             calm: 0,
             ..*b
         }));

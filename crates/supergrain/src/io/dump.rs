@@ -43,6 +43,9 @@ pub struct ParticleJson {
     /// Absent: `center`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub anchor: Option<[f64; 2]>,
+    /// Where the grain last woke its neighbours for drifting; absent: `center`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drift_anchor: Option<[f64; 2]>,
     /// Steps ready to sleep while a neighbour was not; absent: 0.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub waiting: u32,
@@ -157,6 +160,8 @@ impl Dump {
                         previous_angle: Some(b.previous_angle),
                         calm: b.calm,
                         anchor: (b.anchor != b.center).then(|| b.anchor.to_array()),
+                        drift_anchor: (b.drift_anchor != b.center)
+                            .then(|| b.drift_anchor.to_array()),
                         waiting: b.waiting,
                         group: b.group,
                     }
@@ -288,6 +293,7 @@ impl Dump {
                 previous_angle: p.previous_angle.unwrap_or(pose.angle()),
                 calm: p.calm,
                 anchor: p.anchor.map_or(pose.center(), Vec2::from),
+                drift_anchor: p.drift_anchor.map_or(pose.center(), Vec2::from),
                 waiting: p.waiting,
                 group: p.group,
             };
