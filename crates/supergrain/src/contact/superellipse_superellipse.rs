@@ -59,18 +59,15 @@ pub fn contact_warm(
             penetration: None,
             cells: 0,
         },
-        Some(Certified::Overlap { a1, a2, a_in_b }) => {
-            let local_a_in_b = a_in_b;
-            Contact {
-                penetration: Some(Penetration {
-                    a_deepest: pose_a.to_world(a1),
-                    b_deepest: pose_b.to_world(a2),
-                    a_push: pose_a.vector_to_world(push_out(&local_b, a1)),
-                    b_push: pose_b.vector_to_world(push_out(&local_a_in_b, a2)),
-                }),
-                cells: 0,
-            }
-        }
+        Some(Certified::Overlap { a1, a2, a_in_b }) => Contact {
+            penetration: Some(Penetration {
+                a_deepest: pose_a.to_world(a1),
+                b_deepest: pose_b.to_world(a2),
+                a_push: pose_a.vector_to_world(push_out(&local_b, a1)),
+                b_push: pose_b.vector_to_world(push_out(&a_in_b, a2)),
+            }),
+            cells: 0,
+        },
         None => quadtree(pose_a, &local_a, &local_b, &region, precision, &mut ()),
     }
 }

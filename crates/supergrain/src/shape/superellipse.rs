@@ -1,5 +1,9 @@
 use super::{Pose, ShapeError, check_positive};
-use crate::geometry::{Aabb, Rotation, Vec2};
+use crate::geometry::{Aabb, Vec2};
+
+/// A relative pad of a few ulps on bounds of the shape's extent (support, box, bounding
+/// radius): a bound must never be smaller than the shape.
+const BOUND_PAD: f64 = 1.0 + 8.0 * f64::EPSILON;
 
 /// A superellipse centred at the origin, axis-aligned: `h(x, y) = |x/s_x|^e_x + |y/s_y|^e_y <= 1`
 /// (paper I). `e = 2` is an ellipse, `e > 2` blocky, `1 <= e < 2` diamond-like, `e < 1` a
@@ -128,7 +132,9 @@ impl Superellipse {
         if m == 0.0 {
             return 0.0;
         }
-        let s = if e <= 1.0 {
+        let s = if e <= 1.0 || a.min(b) == 0.0 {
+            // Along an axis (the first shape's frame of every contact test asks for its box)
+            // the support is the semi-axis, for any exponent.
             m
         } else if e == 2.0 {
             // q = 2: no powf (the contact certificate asks for this often).
@@ -139,18 +145,16 @@ impl Superellipse {
             // Normalise by the larger term so that huge q neither overflows nor underflows.
             m * (1.0 + (a.min(b) / m).powf(q)).powf(1.0 / q)
         };
-        // A relative pad of a few ulps: the box must never be smaller than the shape.
-        s * (1.0 + 8.0 * f64::EPSILON)
+        s * BOUND_PAD
     }
 
     /// The axis-aligned bounding box of the placed shape (paper III-A, Fig. 4).
     pub fn bounding_box(&self, pose: &Pose) -> Aabb {
         let r = pose.rotation();
-        let (hx, hy) = if self.is_circle() || r == Rotation::IDENTITY {
-            // The support along the shape's own axes is its semi-axes, padded as below (the
-            // narrow phase asks this of every pair, in the first shape's frame).
-            let pad = 1.0 + 8.0 * f64::EPSILON;
-            (self.semi_axes.x * pad, self.semi_axes.y * pad)
+        let (hx, hy) = if self.is_circle() {
+            // The same box at any angle.
+            let r = self.semi_axes.x * BOUND_PAD;
+            (r, r)
         } else {
             // World axes seen from the local frame: R(-theta) e_x and R(-theta) e_y.
             (
@@ -172,7 +176,7 @@ impl Superellipse {
         } else {
             sx.hypot(sy)
         };
-        r * (1.0 + 8.0 * f64::EPSILON)
+        r * BOUND_PAD
     }
 
     /// The area, `4 s_x s_y G(1 + 1/e_x) G(1 + 1/e_y) / G(1 + 1/e_x + 1/e_y)` (G: gamma).
