@@ -26,6 +26,7 @@
 //! proof. When it fails, the caller runs the quadtree: the answer is never less certain than
 //! the paper's, only faster when Newton has found the point.
 
+use super::ray::push_out;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
 use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow};
@@ -36,19 +37,18 @@ const PAD: f64 = 1e-12;
 const MAX_ITERATIONS: u32 = 16;
 
 /// What the certified path can prove about a pair.
-// Returned once per query and taken apart at once: boxing the placed shape would allocate.
-#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
 pub(crate) enum Certified {
     /// No point of A lies in B deeper than half a final cell: apart, or touching within the
     /// quadtree's precision.
     Apart,
     /// `A1` and `A2`, each in its own shape's frame, proven inside both shapes and deepest up to
-    /// the tolerance; and A placed in B's frame (for the push out of A).
+    /// the tolerance, and the pushes `A1 -> B2` (in A's frame) and `A2 -> B1` (in B's).
     Overlap {
         a1: Vec2,
         a2: Vec2,
-        a_in_b: PlacedSuperellipse,
+        a_push: Vec2,
+        b_push: Vec2,
     },
 }
 
@@ -59,7 +59,7 @@ pub(crate) fn eligible(a: &Superellipse, b: &Superellipse) -> bool {
 }
 
 /// Every exponent at least 1: the shape, and its `f`, are convex.
-fn convex(s: &Superellipse) -> bool {
+pub(crate) fn convex(s: &Superellipse) -> bool {
     s.exponents().iter().all(|&e| e >= 1.0)
 }
 
@@ -101,7 +101,12 @@ pub(crate) fn certified_contact(
         (Deepest::Beyond, _) => a1_in_b,
     };
     *warm = Some(WarmStart { a1, a2: Some(a2) });
-    Some(Certified::Overlap { a1, a2, a_in_b })
+    Some(Certified::Overlap {
+        a1,
+        a2,
+        a_push: push_out(local_b, a1),
+        b_push: push_out(&a_in_b, a2),
+    })
 }
 
 /// Where the certified path last found a pair's deepest points, each in its own shape's frame
@@ -144,11 +149,14 @@ fn deepest(
             .then_some((Deepest::At(centre), centre));
     }
 
-    let x = newton(own, other, rel, start)?;
+    let (x, gradient) = newton(own, other, rel, start)?;
     // A hair towards own's centre, so that being inside own survives rounding (own is
     // star-shaped about its centre).
     let x = x * (1.0 - 1e-9);
-    let tau = 0.5 * cell * len(other.gradient(rel, x));
+    // The tolerance's scale only (any `tau` gives a proof, of "deepest up to `tau`"): Newton's
+    // last gradient, when it converged, is that at `x` to about 1e-9.
+    let gradient = gradient.unwrap_or_else(|| other.gradient(rel, x));
+    let tau = 0.5 * cell * len(gradient);
     if !tau.is_finite() {
         return None;
     }
@@ -286,9 +294,9 @@ fn value_gradient_hessian(
 ) -> (f64, Vec2, [f64; 3]) {
     let q = rotation.apply_inverse(p - centre);
     let [ex, ey] = shape.exponents();
-    let s = shape.semi_axes();
-    let (mu, gu, hu) = axis_term(q.x, s.x.recip(), ex);
-    let (mv, gv, hv) = axis_term(q.y, s.y.recip(), ey);
+    let inv = shape.inv_semi_axes();
+    let (mu, gu, hu) = axis_term(q.x, inv.x, ex);
+    let (mv, gv, hv) = axis_term(q.y, inv.y, ey);
     let (c, sn) = (rotation.cos, rotation.sin);
     let g = Vec2::new(c * gu - sn * gv, sn * gu + c * gv);
     let h = [
@@ -302,8 +310,8 @@ fn value_gradient_hessian(
 /// Where the ray from `own`'s centre through `p` meets `own`'s boundary (own in its frame).
 fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
     let [ex, ey] = own.exponents();
-    let s = own.semi_axes();
-    let (a, b) = (abs_pow(p.x / s.x, ex), abs_pow(p.y / s.y, ey));
+    let inv = own.inv_semi_axes();
+    let (a, b) = (abs_pow(p.x * inv.x, ex), abs_pow(p.y * inv.y, ey));
     let h = a + b;
     if !(h > 0.0 && h.is_finite()) {
         return None;
@@ -333,13 +341,14 @@ fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
 /// Newton on the conditions for `argmin f_other` over `own`'s boundary: `grad f_other + l grad
 /// f_own = 0`, `f_own = 0`, in `own`'s frame, started where the line between the centres leaves
 /// `own` (or from `start`, projected on the boundary). Returns the last iterate, projected on
-/// the boundary (convergence is not required: the certificate decides).
+/// the boundary (convergence is not required: the certificate decides), and, once converged,
+/// `grad f_other` at the last iterate (within `1e-9` of the answer's size of it).
 fn newton(
     own: &Superellipse,
     other: &Superellipse,
     rel: &Pose,
     start: Option<Vec2>,
-) -> Option<Vec2> {
+) -> Option<(Vec2, Option<Vec2>)> {
     let (rot, c) = (rel.rotation(), rel.center());
     let mut x = start
         .and_then(|s| radial_to_boundary(own, s))
@@ -349,6 +358,7 @@ fn newton(
     let id = Rotation::IDENTITY;
     // The multiplier starts from the gradients at the start, as the first iteration finds them.
     let mut l = f64::NAN;
+    let mut converged = None;
     for _ in 0..MAX_ITERATIONS {
         let (fa, ga, ha) = value_gradient_hessian(own, id, Vec2::ZERO, x);
         let (_, gb, hb) = value_gradient_hessian(other, rot, c, x);
@@ -380,13 +390,14 @@ fn newton(
         // Quadratic convergence: after a step this small the error is far below any
         // tolerance the certificate needs (half a final cell).
         if step <= 1e-9 * size {
+            converged = Some(gb);
             break;
         }
     }
     if !x.is_finite() {
         return None;
     }
-    radial_to_boundary(own, x)
+    Some((radial_to_boundary(own, x)?, converged))
 }
 
 /// `J d = r` by Cramer's rule, `None` when `J` is (nearly) singular or anything is not finite.
@@ -553,7 +564,7 @@ mod tests {
             // tangent (convex) or the support function (stars).
             let n = Vec2::new(dir.cos(), dir.sin());
             let mut planes = vec![(n, support_up(own.semi_axes(), own.exponents(), n).unwrap())];
-            if let Some(x) = newton(&own, &other, &rel, None)
+            if let Some((x, _)) = newton(&own, &other, &rel, None)
                 && let Some(plane) = half_plane(
                     &own,
                     x,

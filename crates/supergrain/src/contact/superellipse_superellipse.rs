@@ -1,5 +1,6 @@
 use super::certified::{self, Certified, WarmStart};
-use super::{Contact, Penetration, ray_to_boundary};
+use super::ray::push_out;
+use super::{Contact, Penetration};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{Pose, Superellipse};
@@ -59,12 +60,17 @@ pub fn contact_warm(
             penetration: None,
             cells: 0,
         },
-        Some(Certified::Overlap { a1, a2, a_in_b }) => Contact {
+        Some(Certified::Overlap {
+            a1,
+            a2,
+            a_push,
+            b_push,
+        }) => Contact {
             penetration: Some(Penetration {
                 a_deepest: pose_a.to_world(a1),
                 b_deepest: pose_b.to_world(a2),
-                a_push: pose_a.vector_to_world(push_out(&local_b, a1)),
-                b_push: pose_b.vector_to_world(push_out(&a_in_b, a2)),
+                a_push: pose_a.vector_to_world(a_push),
+                b_push: pose_b.vector_to_world(b_push),
             }),
             cells: 0,
         },
@@ -107,6 +113,8 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
 
 /// Both shapes in A's frame (parry's `pos12`: A axis-aligned at the origin) and the
 /// intersection of their boxes, or `None` when the bounding circles or boxes are apart.
+// Inlined: the two placed shapes are then built where the caller keeps them, not copied out.
+#[inline(always)]
 fn frame(
     a: &Superellipse,
     pose_a: &Pose,
@@ -180,20 +188,4 @@ fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2) -> 
     } else {
         point
     }
-}
-
-/// `A1 -> B2`: from a point inside `other` along `grad f_other` to its boundary.
-fn push_out(other: &PlacedSuperellipse, from: Vec2) -> Vec2 {
-    let centre = other.pose().center();
-    // The gradient vanishes only at the centre of a symmetric shape; then any way out will do,
-    // and straight away from the centre (or along x) is as good as any.
-    let dir = other
-        .gradient(from)
-        .direction()
-        .or_else(|| (from - centre).direction())
-        .unwrap_or(Vec2::new(1.0, 0.0));
-    // From any point within the bounding circle, this far along is outside it.
-    let t_far = ((from - centre).norm() + other.shape().bounding_radius()) * (1.0 + 1e-9)
-        + f64::MIN_POSITIVE;
-    ray_to_boundary(other, from, dir, t_far) - from
 }

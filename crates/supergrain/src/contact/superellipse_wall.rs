@@ -1,7 +1,7 @@
 use super::certified;
 use super::{WallContact, WallPenetration};
 use crate::geometry::Aabb;
-use crate::interval::{ImplicitShape, PlacedSuperellipse};
+use crate::interval::PlacedSuperellipse;
 use crate::shape::{HalfPlane, Pose, Superellipse};
 use crate::subdivision::{CellSink, Precision, deepest_points};
 
@@ -71,9 +71,11 @@ fn frame(
     pose: &Pose,
     wall: &HalfPlane,
 ) -> Option<(PlacedSuperellipse, Aabb)> {
-    let placed = PlacedSuperellipse::new(*shape, *pose);
-    let region = placed.bounding_box().intersection(&wall.bounding_box())?;
-    Some((placed, region))
+    // The box first: most grains are far from most walls, and are then never placed.
+    let region = shape
+        .bounding_box(pose)
+        .intersection(&wall.bounding_box())?;
+    Some((PlacedSuperellipse::new(*shape, *pose), region))
 }
 
 fn quadtree<S: CellSink + ?Sized>(

@@ -160,12 +160,24 @@ impl PlacedSuperellipse {
         };
         // u = cos (x - cx) + sin (y - cy), v = -sin (x - cx) + cos (y - cy).
         let aligned = r == Rotation::IDENTITY;
-        let map = |a: f64, b: f64, s: f64, axis: usize| Affine {
-            a: a / s,
-            b: b / s,
-            k: -(a * c.x + b * c.y) / s,
-            k_terms: ((a * c.x).abs() + (b * c.y).abs()) / s,
-            aligned: aligned.then_some((axis, if axis == 0 { c.x } else { c.y }, s)),
+        let map = |a: f64, b: f64, s: f64, axis: usize| {
+            if aligned {
+                // Only `aligned` is read (see `Affine::enclose`): no division.
+                return Affine {
+                    a: 0.0,
+                    b: 0.0,
+                    k: 0.0,
+                    k_terms: 0.0,
+                    aligned: Some((axis, if axis == 0 { c.x } else { c.y }, s)),
+                };
+            }
+            Affine {
+                a: a / s,
+                b: b / s,
+                k: -(a * c.x + b * c.y) / s,
+                k_terms: ((a * c.x).abs() + (b * c.y).abs()) / s,
+                aligned: None,
+            }
         };
         PlacedSuperellipse {
             shape,

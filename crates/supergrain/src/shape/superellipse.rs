@@ -12,20 +12,26 @@ const BOUND_PAD: f64 = 1.0 + 8.0 * f64::EPSILON;
 pub struct Superellipse {
     semi_axes: Vec2,
     exponents: [f64; 2],
+    /// `1 / s_x` and `1 / s_y`, so that plain evaluations multiply instead of dividing (a
+    /// division costs several multiplications, and the contact tests evaluate `f` and its
+    /// gradient dozens of times). Plain values only: enclosures divide with directed rounding.
+    inv_semi_axes: Vec2,
 }
 
 impl Superellipse {
     /// A superellipse with semi-axes `[s_x, s_y]` and exponents `[e_x, e_y]`, all finite and > 0.
     pub fn new(semi_axes: [f64; 2], exponents: [f64; 2]) -> Result<Self, ShapeError> {
+        let semi_axes = Vec2::new(
+            check_positive("semi-axis x", semi_axes[0])?,
+            check_positive("semi-axis y", semi_axes[1])?,
+        );
         Ok(Superellipse {
-            semi_axes: Vec2::new(
-                check_positive("semi-axis x", semi_axes[0])?,
-                check_positive("semi-axis y", semi_axes[1])?,
-            ),
+            semi_axes,
             exponents: [
                 check_positive("exponent x", exponents[0])?,
                 check_positive("exponent y", exponents[1])?,
             ],
+            inv_semi_axes: Vec2::new(semi_axes.x.recip(), semi_axes.y.recip()),
         })
     }
 
@@ -46,6 +52,11 @@ impl Superellipse {
         self.exponents
     }
 
+    /// `[1 / s_x, 1 / s_y]`, rounded to nearest.
+    pub fn inv_semi_axes(&self) -> Vec2 {
+        self.inv_semi_axes
+    }
+
     /// Rotation changes nothing (a circle): contact can skip the rotated enclosure.
     pub fn is_circle(&self) -> bool {
         self.exponents == [2.0, 2.0] && self.semi_axes.x == self.semi_axes.y
@@ -54,22 +65,24 @@ impl Superellipse {
     /// The implicit function in the local frame: `h(p) - 1`, negative inside.
     pub fn local_value(&self, p: Vec2) -> f64 {
         let [ex, ey] = self.exponents;
-        abs_pow(p.x / self.semi_axes.x, ex) + abs_pow(p.y / self.semi_axes.y, ey) - 1.0
+        let inv = self.inv_semi_axes;
+        abs_pow(p.x * inv.x, ex) + abs_pow(p.y * inv.y, ey) - 1.0
     }
 
     /// The gradient of [`local_value`](Self::local_value). Components may be infinite for
     /// exponents below 1 close to an axis; on the axis itself they are taken as 0.
     pub fn local_gradient(&self, p: Vec2) -> Vec2 {
         let [ex, ey] = self.exponents;
-        let d = |c: f64, s: f64, e: f64| {
-            let t = c / s;
+        let d = |c: f64, inv_s: f64, e: f64| {
+            let t = c * inv_s;
             if t == 0.0 {
                 0.0
             } else {
-                e * abs_pow(t, e - 1.0) * t.signum() / s
+                e * abs_pow(t, e - 1.0) * t.signum() * inv_s
             }
         };
-        Vec2::new(d(p.x, self.semi_axes.x, ex), d(p.y, self.semi_axes.y, ey))
+        let inv = self.inv_semi_axes;
+        Vec2::new(d(p.x, inv.x, ex), d(p.y, inv.y, ey))
     }
 
     /// The implicit function `f(p) = h(R(-theta)(p - c)) - 1` of the placed shape (SPEC §1).
@@ -87,13 +100,21 @@ impl Superellipse {
     pub fn value_and_gradient(&self, pose: &Pose, p: Vec2) -> (f64, Vec2) {
         let q = pose.to_local(p);
         let [ex, ey] = self.exponents;
-        let term = |c: f64, s: f64, e: f64| {
-            let t = c / s;
+        let term = |c: f64, inv_s: f64, e: f64| {
+            let t = c * inv_s;
             let m = abs_pow(t, e);
-            (m, if t == 0.0 { 0.0 } else { e * m / t / s })
+            let g = if t == 0.0 {
+                0.0
+            } else if e == 2.0 {
+                2.0 * t * inv_s
+            } else {
+                e * m / t * inv_s
+            };
+            (m, g)
         };
-        let (mx, gx) = term(q.x, self.semi_axes.x, ex);
-        let (my, gy) = term(q.y, self.semi_axes.y, ey);
+        let inv = self.inv_semi_axes;
+        let (mx, gx) = term(q.x, inv.x, ex);
+        let (my, gy) = term(q.y, inv.y, ey);
         (mx + my - 1.0, pose.vector_to_world(Vec2::new(gx, gy)))
     }
 
