@@ -424,6 +424,83 @@ fn aligned_enclosure_holds_exact_values_at_dyadic_points() {
     }
 }
 
+/// `x <= n / d` (`d > 0`), decided exactly in integers, or `None` when the integers would
+/// overflow.
+fn at_most_rational(x: f64, n: i128, d: i128) -> Option<bool> {
+    if x == 0.0 {
+        return Some(n >= 0);
+    }
+    // x = m 2^k exactly, m an integer below 2^53.
+    let bits = x.abs().to_bits();
+    let (exp, frac) = ((bits >> 52) as i32, (bits & ((1u64 << 52) - 1)) as i128);
+    let (m, k) = if exp == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1i128 << 52), exp - 1075)
+    };
+    let m = if x < 0.0 { -m } else { m };
+    // m 2^k <= n / d  <=>  m d 2^k <= n.
+    let lhs = m.checked_mul(d)?;
+    if k >= 0 {
+        Some(lhs.checked_mul(1i128.checked_shl(k as u32)?)? <= n)
+    } else {
+        let shift = u32::try_from(-k).ok().filter(|&s| s < 126)?;
+        let rhs = n.checked_mul(1i128 << shift)?;
+        Some(lhs <= rhs)
+    }
+}
+
+/// A point's enclosure for an axis-aligned shape (one multiplication by the rounded `1 / s`,
+/// no division) holds the exact value of `f` where `1 / s` is not a dyadic number: ellipses
+/// with odd semi-axes `m 2^-10` at points and centres on the grid `2^-10`, where
+/// `t = (x - c) / s = (k_x - k_c) / m` and `f` are exact rationals.
+#[test]
+fn aligned_point_enclosure_holds_exact_values_for_any_semi_axes() {
+    let mut rng = Rng::new(34);
+    let (mut decided, mut cases) = (0, 0);
+    for _ in 0..20000 {
+        let odd = |rng: &mut Rng| 2 * (256 + rng.below(768) as i128) + 1;
+        let m = [odd(&mut rng), odd(&mut rng)];
+        let kc = [
+            rng.below(2048) as i128 - 1024,
+            rng.below(2048) as i128 - 1024,
+        ];
+        // Points from the centre out to about twice the shape, many near its boundary.
+        let n = [0, 1].map(|axis| {
+            let reach = if rng.below(2) == 0 {
+                m[axis]
+            } else {
+                2 * m[axis]
+            };
+            rng.below(2 * reach as u64 + 1) as i128 - reach
+        });
+        let to_f = |k: i128| k as f64 / 1024.0;
+        let sh = Shape {
+            s: [to_f(m[0]), to_f(m[1])],
+            e: [2.0, 2.0],
+            c: [to_f(kc[0]), to_f(kc[1])],
+            angle: 0.0,
+        };
+        let p = Vec2::new(to_f(kc[0] + n[0]), to_f(kc[1] + n[1]));
+        // f = n_x^2 / m_x^2 + n_y^2 / m_y^2 - 1 = num / den.
+        let (mx2, my2) = (m[0] * m[0], m[1] * m[1]);
+        let den = mx2 * my2;
+        let num = n[0] * n[0] * my2 + n[1] * n[1] * mx2 - den;
+        let iv = sh.placed().enclose_point(p);
+        cases += 1;
+        let lo_ok = at_most_rational(iv.lo, num, den);
+        let hi_ok = at_most_rational(-iv.hi, -num, den);
+        if let (Some(lo_ok), Some(hi_ok)) = (lo_ok, hi_ok) {
+            decided += 1;
+            assert!(
+                lo_ok && hi_ok,
+                "{sh:?} at {p:?}: {iv:?} misses {num} / {den}"
+            );
+        }
+    }
+    assert!(decided * 10 >= cases * 9, "{decided} of {cases} decided");
+}
+
 /// Distance in units in the last place between two finite non-negative floats.
 fn ulps(a: f64, b: f64) -> u64 {
     a.to_bits().abs_diff(b.to_bits())

@@ -105,7 +105,17 @@ struct Affine {
     /// For an axis-aligned shape: `(x - c) / s` along one axis, translated and scaled with
     /// directed rounding, whose error is relative to the result (tight near the shape's axes,
     /// which matters for exponents below 1).
-    aligned: Option<(usize, f64, f64)>,
+    aligned: Option<Aligned>,
+}
+
+/// `(x - c) / s` along one axis (`axis` 0 for x, 1 for y), and `1 / s` rounded to nearest for
+/// points.
+#[derive(Clone, Copy, Debug)]
+struct Aligned {
+    axis: usize,
+    c: f64,
+    s: f64,
+    inv_s: f64,
 }
 
 impl Affine {
@@ -116,7 +126,7 @@ impl Affine {
     /// widening instead of one per operation keeps the hot loop short.
     #[inline(always)]
     fn enclose(&self, cell: &Aabb) -> Interval {
-        if let Some((axis, c, s)) = self.aligned {
+        if let Some(Aligned { axis, c, s, .. }) = self.aligned {
             let (lo, hi) = if axis == 0 {
                 (cell.min.x, cell.max.x)
             } else {
@@ -146,6 +156,26 @@ impl Affine {
     }
 }
 
+impl Affine {
+    /// [`Affine::enclose`] of a single point. Axis-aligned, with one multiplication by the
+    /// rounded `1 / s` instead of two directed divisions: the computed `q = fl(fl(x - c) fl(1/s))`
+    /// carries three roundings of at most half an ulp each, so `|q - (x - c)/s| <= 1.5 eps |q|`
+    /// (to first order), and `4 eps |q|` covers that and the rounding of the widening itself
+    /// (`MIN_POSITIVE` covers underflow).
+    #[inline(always)]
+    fn enclose_point(&self, p: Vec2) -> Interval {
+        match self.aligned {
+            Some(Aligned { axis, c, inv_s, .. }) => {
+                let x = if axis == 0 { p.x } else { p.y };
+                let q = (x - c) * inv_s;
+                let err = 4.0 * f64::EPSILON * q.abs() + f64::MIN_POSITIVE;
+                Interval::new(q - err, q + err)
+            }
+            None => self.enclose(&Aabb::point(p)),
+        }
+    }
+}
+
 impl PlacedSuperellipse {
     pub fn new(shape: Superellipse, pose: Pose) -> Self {
         let [ex, ey] = shape.exponents();
@@ -160,6 +190,7 @@ impl PlacedSuperellipse {
         };
         // u = cos (x - cx) + sin (y - cy), v = -sin (x - cx) + cos (y - cy).
         let aligned = r == Rotation::IDENTITY;
+        let inv = shape.inv_semi_axes();
         let map = |a: f64, b: f64, s: f64, axis: usize| {
             if aligned {
                 // Only `aligned` is read (see `Affine::enclose`): no division.
@@ -168,7 +199,12 @@ impl PlacedSuperellipse {
                     b: 0.0,
                     k: 0.0,
                     k_terms: 0.0,
-                    aligned: Some((axis, if axis == 0 { c.x } else { c.y }, s)),
+                    aligned: Some(Aligned {
+                        axis,
+                        c: if axis == 0 { c.x } else { c.y },
+                        s,
+                        inv_s: if axis == 0 { inv.x } else { inv.y },
+                    }),
                 };
             }
             Affine {
@@ -204,6 +240,16 @@ impl ImplicitShape for PlacedSuperellipse {
         let [ex, ey] = self.exponents;
         let hx = self.maps[0].enclose(cell).abs_pow(ex);
         let hy = self.maps[1].enclose(cell).abs_pow(ey);
+        hx.plus(hy).sub_scalar(1.0)
+    }
+
+    /// [`Self::enclose`] of a point, without divisions for an axis-aligned shape (the contact
+    /// certificates prove points inside dozens of times a test).
+    #[inline]
+    fn enclose_point(&self, p: Vec2) -> Interval {
+        let [ex, ey] = self.exponents;
+        let hx = self.maps[0].enclose_point(p).abs_pow(ex);
+        let hy = self.maps[1].enclose_point(p).abs_pow(ey);
         hx.plus(hy).sub_scalar(1.0)
     }
 
