@@ -10,7 +10,7 @@ mod superellipse;
 pub use half_plane::HalfPlane;
 pub use pose::Pose;
 pub use superellipse::Superellipse;
-pub(crate) use superellipse::abs_pow;
+pub(crate) use superellipse::{abs_pow, support};
 
 /// Why a shape, pose or wall could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

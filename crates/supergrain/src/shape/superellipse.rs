@@ -146,27 +146,7 @@ impl Superellipse {
     /// By Holder's inequality, `d . p <= ||(d_x s_x, d_y s_y)||_q` with `1/e + 1/q = 1`; for
     /// `e <= 1` the shape lies in the diamond `e = 1`, whose support is `max(|d_x| s_x, |d_y| s_y)`.
     pub fn local_support(&self, d: Vec2) -> f64 {
-        let e = self.exponents[0].max(self.exponents[1]);
-        let a = (d.x * self.semi_axes.x).abs();
-        let b = (d.y * self.semi_axes.y).abs();
-        let m = a.max(b);
-        if m == 0.0 {
-            return 0.0;
-        }
-        let s = if e <= 1.0 || a.min(b) == 0.0 {
-            // Along an axis (the first shape's frame of every contact test asks for its box)
-            // the support is the semi-axis, for any exponent.
-            m
-        } else if e == 2.0 {
-            // q = 2: no powf (the contact certificate asks for this often).
-            let r = a.min(b) / m;
-            m * (1.0 + r * r).sqrt()
-        } else {
-            let q = e / (e - 1.0);
-            // Normalise by the larger term so that huge q neither overflows nor underflows.
-            m * (1.0 + (a.min(b) / m).powf(q)).powf(1.0 / q)
-        };
-        s * BOUND_PAD
+        support(self.semi_axes, self.exponents, d)
     }
 
     /// The axis-aligned bounding box of the placed shape (paper III-A, Fig. 4).
@@ -218,6 +198,32 @@ impl Superellipse {
     pub fn moment_of_inertia(&self, mass: f64) -> f64 {
         mass * self.polar_moment_of_area() / self.area()
     }
+}
+
+/// [`Superellipse::local_support`] for any semi-axes and exponents (finite and positive), with
+/// no shape built: the contact certificate asks it of grown copies of a shape.
+pub(crate) fn support(semi_axes: Vec2, exponents: [f64; 2], d: Vec2) -> f64 {
+    let e = exponents[0].max(exponents[1]);
+    let a = (d.x * semi_axes.x).abs();
+    let b = (d.y * semi_axes.y).abs();
+    let m = a.max(b);
+    if m == 0.0 {
+        return 0.0;
+    }
+    let s = if e <= 1.0 || a.min(b) == 0.0 {
+        // Along an axis (the first shape's frame of every contact test asks for its box)
+        // the support is the semi-axis, for any exponent.
+        m
+    } else if e == 2.0 {
+        // q = 2: no powf (the contact certificate asks for this often).
+        let r = a.min(b) / m;
+        m * (1.0 + r * r).sqrt()
+    } else {
+        let q = e / (e - 1.0);
+        // Normalise by the larger term so that huge q neither overflows nor underflows.
+        m * (1.0 + (a.min(b) / m).powf(q)).powf(1.0 / q)
+    };
+    s * BOUND_PAD
 }
 
 /// `|t|^e` in plain floating point, without `powf` for the common exponents (paper IV-A).
