@@ -318,6 +318,7 @@ pub fn step<B: BroadPhase>(
     let half_planes = walls.half_planes();
     let ctx = Context {
         walls: &half_planes,
+        wall_boxes: half_planes.map(|w| w.bounding_box()),
         settings,
     };
     work.start.clear();
@@ -534,6 +535,9 @@ fn wake_neighbours<B: BroadPhase>(
 /// What every projection pass of a step reads.
 struct Context<'a> {
     walls: &'a [HalfPlane; 3],
+    /// The walls' boxes: a grain whose box misses a wall's is not tested against it (the narrow
+    /// phase would find the same from the same box, after computing it again).
+    wall_boxes: [Aabb; 3],
     settings: &'a Settings,
 }
 
@@ -610,7 +614,10 @@ fn resolve<B: BroadPhase>(
 ) -> usize {
     let settings = ctx.settings;
     let mut hit = 0usize;
-    for wall in ctx.walls {
+    for (wall, wall_box) in ctx.walls.iter().zip(&ctx.wall_boxes) {
+        if !work.boxes[i].intersects(wall_box) {
+            continue;
+        }
         stats.tests += 1;
         if let Some(p) = wall_contact_at(settings, &bodies[i], &work.poses[i], wall).penetration {
             // Walls do not move: the grain takes the whole correction.
