@@ -230,8 +230,29 @@ pub(crate) fn certified_wall(
     if min_lo > -0.5 * cell {
         return Some(None);
     }
-    // The support point: (s_x u, s_y v) with (u, v) = sgn (|A|, |B|)^(q-1) / ||(A, B)||_q^(q-1),
-    // A = m_x s_x, B = m_y s_y, 1/e + 1/q = 1.
+    let local = support_point(shape, m)? * (1.0 - 1e-9);
+    let x = pose.to_world(local);
+    if !x.is_finite() || placed.enclose_point(x).hi >= 0.0 {
+        return None;
+    }
+    let (gx, gy) = (n.x * x.x, n.y * x.y);
+    let g_hi = gx + gy - d + PAD * (gx.abs() + gy.abs() + d.abs()) + f64::MIN_POSITIVE;
+    if g_hi < 0.0 && g_hi - min_lo <= 0.5 * cell {
+        return Some(Some(x));
+    }
+    None
+}
+
+/// The point of `shape` (in its frame) farthest along the local direction `m`, in closed form
+/// (Hölder) for equal exponents above 1: `(s_x u, s_y v)` with
+/// `(u, v) = sgn (|A|, |B|)^(q-1) / ||(A, B)||_q^(q-1)`, `A = m_x s_x`, `B = m_y s_y`,
+/// `1/e + 1/q = 1`. `None` for other shapes or a direction that is zero or not finite.
+fn support_point(shape: &Superellipse, m: Vec2) -> Option<Vec2> {
+    let [e, ey] = shape.exponents();
+    if e != ey || e <= 1.0 {
+        return None;
+    }
+    let s = shape.semi_axes();
     let (a, b) = (m.x * s.x, m.y * s.y);
     let q = e / (e - 1.0);
     let big = a.abs().max(b.abs());
@@ -249,17 +270,7 @@ pub(crate) fn certified_wall(
     let norm = (power(ra, q) + power(rb, q)).powf(1.0 / q);
     let u = a.signum() * power(ra / norm, q - 1.0);
     let v = b.signum() * power(rb / norm, q - 1.0);
-    let local = Vec2::new(s.x * u, s.y * v) * (1.0 - 1e-9);
-    let x = pose.to_world(local);
-    if !x.is_finite() || placed.enclose_point(x).hi >= 0.0 {
-        return None;
-    }
-    let (gx, gy) = (n.x * x.x, n.y * x.y);
-    let g_hi = gx + gy - d + PAD * (gx.abs() + gy.abs() + d.abs()) + f64::MIN_POSITIVE;
-    if g_hi < 0.0 && g_hi - min_lo <= 0.5 * cell {
-        return Some(Some(x));
-    }
-    None
+    Some(Vec2::new(s.x * u, s.y * v))
 }
 
 /// `f`, its gradient and the diagonal of its Hessian for one axis term `|c / s|^e`, with no
