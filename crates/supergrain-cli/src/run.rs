@@ -62,6 +62,15 @@ pub struct Args {
     /// Write the final state as JSON (restartable with --resume).
     #[arg(long, value_name = "FILE.json")]
     dump: Option<PathBuf>,
+    /// Also write the --dump file every STEPS steps (replaced whole each time), so that a long
+    /// run killed without Ctrl-C (a machine going down) can --resume from its last checkpoint.
+    #[arg(
+        long,
+        value_name = "STEPS",
+        requires = "dump",
+        value_parser = clap::value_parser!(u64).range(1..)
+    )]
+    checkpoint: Option<u64>,
     /// Draw the final state as an SVG picture.
     #[arg(long, value_name = "FILE.svg")]
     svg: Option<PathBuf>,
@@ -99,6 +108,26 @@ pub struct Args {
     /// No summary.
     #[arg(long, short)]
     quiet: bool,
+}
+
+/// The --dump file written now, whole: through a temporary file of its own beside the target
+/// (not the final dump's, which stays open for the end of the run), renamed into place.
+fn checkpoint(world: &World, target: &Path) -> Result<()> {
+    let mut temp = supergrain::io::temp_beside(target)
+        .with_context(|| format!("output path {} names no file", target.display()))?
+        .into_os_string();
+    temp.push(".checkpoint");
+    let temp = PathBuf::from(temp);
+    let mut bytes = serde_json::to_vec(&Dump::of(world))?;
+    bytes.push(b'\n');
+    let written = std::fs::File::create(&temp)
+        .and_then(|mut f| f.write_all(&bytes).and_then(|()| f.sync_all()))
+        .and_then(|()| std::fs::rename(&temp, target));
+    if let Err(e) = written {
+        let _ = std::fs::remove_file(&temp);
+        return Err(e).with_context(|| format!("cannot write {}", target.display()));
+    }
+    Ok(())
 }
 
 pub fn run(args: Args) -> Result<ExitCode> {
@@ -164,6 +193,14 @@ pub fn run(args: Args) -> Result<ExitCode> {
         contacts += stats.contacts as u64;
         if k % args.every == 0 {
             frame(&world, trajectory.as_mut())?;
+        }
+        if let (Some(every), Some(path)) = (args.checkpoint, args.dump.as_deref())
+            && k % every == 0
+            && k < steps
+            && let Err(e) = checkpoint(&world, path)
+        {
+            // The run goes on: its final outputs may still be written.
+            eprintln!("warning: checkpoint at step {}: {e:#}", world.step);
         }
         let fastest = world.max_speed();
         calm = if world.all_spawned() && fastest < args.rest_speed {

@@ -418,6 +418,70 @@ fn threads_change_nothing_in_the_result() {
     assert!(stderr(&o).contains("--threads"), "{}", stderr(&o));
 }
 
+/// `--checkpoint N` writes the dump every N steps: a run killed outright (SIGKILL, no chance to
+/// write anything) leaves its last checkpoint, which is exactly the dump of an uninterrupted
+/// run of that many steps.
+#[test]
+fn a_killed_run_keeps_its_last_checkpoint() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let dump = dir.path().join("state.json");
+    let mut child = supergrain()
+        .args([
+            "run",
+            "--preset",
+            "circles",
+            "--steps",
+            "1000000",
+            "--dump",
+            p(&dump),
+            "--checkpoint",
+            "40",
+            "-q",
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start supergrain");
+    let start = Instant::now();
+    while !dump.exists() && start.elapsed() < Duration::from_secs(60) {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.kill().expect("SIGKILL");
+    let _ = child.wait();
+    let step = read_json(&dump)["step"]
+        .as_u64()
+        .expect("a checkpoint with its step");
+    assert!(step > 0 && step % 40 == 0, "checkpoint at step {step}");
+    let reference = dir.path().join("reference.json");
+    ok(&sg(&[
+        "run",
+        "--preset",
+        "circles",
+        "--steps",
+        &step.to_string(),
+        "--dump",
+        p(&reference),
+        "-q",
+    ]));
+    assert!(
+        std::fs::read(&dump).unwrap() == std::fs::read(&reference).unwrap(),
+        "the checkpoint at step {step} differs from a run of {step} steps"
+    );
+}
+
+/// `--checkpoint` without `--dump` has nowhere to write: an error naming both, before any work.
+#[test]
+fn checkpoint_needs_a_dump() {
+    let o = sg(&["run", "--preset", "circles", "--checkpoint", "10"]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.contains("--checkpoint") && err.contains("--dump"),
+        "{err}"
+    );
+}
+
 /// Ctrl-C (SIGINT) on a long run: it stops after the current step, writes every output it was
 /// asked for with that state, says so, and exits with 130; the dump resumes.
 #[test]
