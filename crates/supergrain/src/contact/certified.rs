@@ -144,7 +144,12 @@ fn deepest(
 
     // `own` holds `other`'s centre: that centre is the answer (`f_other >= -1` everywhere).
     // (Its plain value first: an enclosure cannot prove inside a point whose value is > 0.)
-    if own.local_value(centre) < 1e-9 && placed_own.enclose_point(centre).hi < 0.0 {
+    // (And a centre beyond own's bounding circle first: no power for the usual, distant pair.)
+    let r = own.bounding_radius();
+    if centre.dot(centre) <= r * r
+        && own.local_value(centre) < 1e-9
+        && placed_own.enclose_point(centre).hi < 0.0
+    {
         return (placed_other.enclose_point(centre).hi < 0.0)
             .then_some((Deepest::At(centre), centre));
     }

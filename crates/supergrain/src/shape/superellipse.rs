@@ -16,6 +16,9 @@ pub struct Superellipse {
     /// division costs several multiplications, and the contact tests evaluate `f` and its
     /// gradient dozens of times). Plain values only: enclosures divide with directed rounding.
     inv_semi_axes: Vec2,
+    /// [`Superellipse::bounding_radius`], computed once (a square root per contact test
+    /// otherwise).
+    bounding_radius: f64,
 }
 
 impl Superellipse {
@@ -25,13 +28,15 @@ impl Superellipse {
             check_positive("semi-axis x", semi_axes[0])?,
             check_positive("semi-axis y", semi_axes[1])?,
         );
+        let exponents = [
+            check_positive("exponent x", exponents[0])?,
+            check_positive("exponent y", exponents[1])?,
+        ];
         Ok(Superellipse {
             semi_axes,
-            exponents: [
-                check_positive("exponent x", exponents[0])?,
-                check_positive("exponent y", exponents[1])?,
-            ],
+            exponents,
             inv_semi_axes: Vec2::new(semi_axes.x.recip(), semi_axes.y.recip()),
+            bounding_radius: bounding_radius(semi_axes, exponents),
         })
     }
 
@@ -170,14 +175,7 @@ impl Superellipse {
     /// A radius about the centre that holds the whole shape: `max(s_x, s_y)` when both
     /// exponents are at most 2 (the shape lies in the ellipse), the half-diagonal otherwise.
     pub fn bounding_radius(&self) -> f64 {
-        let [ex, ey] = self.exponents;
-        let Vec2 { x: sx, y: sy } = self.semi_axes;
-        let r = if ex <= 2.0 && ey <= 2.0 {
-            sx.max(sy)
-        } else {
-            sx.hypot(sy)
-        };
-        r * BOUND_PAD
+        self.bounding_radius
     }
 
     /// The area, `4 s_x s_y G(1 + 1/e_x) G(1 + 1/e_y) / G(1 + 1/e_x + 1/e_y)` (G: gamma).
@@ -198,6 +196,18 @@ impl Superellipse {
     pub fn moment_of_inertia(&self, mass: f64) -> f64 {
         mass * self.polar_moment_of_area() / self.area()
     }
+}
+
+/// [`Superellipse::bounding_radius`] from the shape's numbers.
+fn bounding_radius(semi_axes: Vec2, exponents: [f64; 2]) -> f64 {
+    let [ex, ey] = exponents;
+    let Vec2 { x: sx, y: sy } = semi_axes;
+    let r = if ex <= 2.0 && ey <= 2.0 {
+        sx.max(sy)
+    } else {
+        sx.hypot(sy)
+    };
+    r * BOUND_PAD
 }
 
 /// [`Superellipse::local_support`] for any semi-axes and exponents (finite and positive), with
