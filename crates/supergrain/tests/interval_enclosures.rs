@@ -750,3 +750,25 @@ fn precision_validates_and_sizes_cells() {
         0.0
     );
 }
+
+/// A semi-axis so small that its reciprocal overflows (a subnormal): a point's enclosure is
+/// still a number that holds `f`, at the centre (`f = -1`) and beside it, never NaN (a NaN
+/// upper end would fail `hi < 0` but pass a test written `hi >= 0` the other way round).
+#[test]
+fn point_enclosure_of_a_subnormal_semi_axis_is_never_nan() {
+    let tiny = f64::MIN_POSITIVE / 8.0;
+    let placed = PlacedSuperellipse::new(
+        Superellipse::new([tiny, 1.0], [2.0, 2.0]).unwrap(),
+        Pose::new(Vec2::new(0.5, -0.25), 0.0).unwrap(),
+    );
+    let at_centre = placed.enclose_point(Vec2::new(0.5, -0.25));
+    assert!(
+        at_centre.lo <= -1.0 && -1.0 <= at_centre.hi,
+        "{at_centre:?} misses -1 at the centre"
+    );
+    let beside = placed.enclose_point(Vec2::new(0.5 + 1e-300, -0.25));
+    assert!(
+        !beside.lo.is_nan() && !beside.hi.is_nan() && beside.hi > 0.0,
+        "{beside:?}: a point 1e-300 beside a semi-axis of {tiny:e} is far outside"
+    );
+}

@@ -159,7 +159,7 @@ fn deepest(
     // star-shaped about its centre).
     let x = x * (1.0 - 1e-9);
     // The tolerance's scale only (any `tau` gives a proof, of "deepest up to `tau`"): Newton's
-    // last gradient, when it converged, is that at `x` to about 1e-9.
+    // last gradient, when it converged, is that at `x` to about 1e-6 relative.
     let gradient = gradient.unwrap_or_else(|| other.gradient(rel, x));
     let tau = 0.5 * cell * len(gradient);
     if !tau.is_finite() {
@@ -237,7 +237,9 @@ pub(crate) fn certified_wall(
     }
     let local = support_point(shape, m)? * (1.0 - 1e-9);
     let x = pose.to_world(local);
-    if !x.is_finite() || placed.enclose_point(x).hi >= 0.0 {
+    // (A NaN bound proves nothing either.)
+    let hi = placed.enclose_point(x).hi;
+    if !x.is_finite() || hi.is_nan() || hi >= 0.0 {
         return None;
     }
     let (gx, gy) = (n.x * x.x, n.y * x.y);
@@ -357,8 +359,9 @@ fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
 /// Newton on the conditions for `argmin f_other` over `own`'s boundary: `grad f_other + l grad
 /// f_own = 0`, `f_own = 0`, in `own`'s frame, started where the line between the centres leaves
 /// `own` (or from `start`, projected on the boundary). Returns the last iterate, projected on
-/// the boundary (convergence is not required: the certificate decides), and, once converged,
-/// `grad f_other` at the last iterate (within `1e-9` of the answer's size of it).
+/// the boundary unless converged there (convergence is not required: the certificate decides),
+/// and, once converged, `grad f_other` at the last iterate (at most `1e-6` of the size from
+/// the answer: about `1e-6` relative).
 fn newton(
     own: &Superellipse,
     other: &Superellipse,
@@ -437,7 +440,13 @@ fn newton(
     if !x.is_finite() {
         return None;
     }
-    Some((radial_to_boundary(own, x)?, converged))
+    if converged.is_some() {
+        // The last step solved `f_own + grad f_own . dx = 0`, so `f_own` is now of the order of
+        // the step squared (1e-12 of the size away from the boundary at most, far inside the
+        // 1e-9 the caller moves the point in): no projection, and its three powers, needed.
+        return Some((x, converged));
+    }
+    Some((radial_to_boundary(own, x)?, None))
 }
 
 /// `J d = r` by Cramer's rule, `None` when `J` is (nearly) singular or anything is not finite.
@@ -491,8 +500,13 @@ fn half_plane(own: &Superellipse, x: Vec2, f_own_lo: f64) -> Option<(Vec2, f64)>
     }
     let (tx, ty) = (n.x * x.x, n.y * x.y);
     let norm1 = n.x.abs() + n.y.abs();
+    // `n`'s own error grows with the exponent (`|t|^(e-1)` multiplies `t`'s relative error by
+    // `e - 1`): about `(e + 2) eps`, which `PAD` alone would not cover beyond e ~ 1,000.
+    let [ex, ey] = own.exponents();
+    let n_pad = PAD + 8.0 * f64::EPSILON * ex.max(ey);
     let bound = tx + ty - f_own_lo
-        + PAD * (tx.abs() + ty.abs() + f_own_lo.abs() + norm1 * 2.0 * own.bounding_radius())
+        + PAD * (tx.abs() + ty.abs() + f_own_lo.abs())
+        + n_pad * norm1 * 2.0 * own.bounding_radius()
         + f64::MIN_POSITIVE;
     bound.is_finite().then_some((n, bound))
 }
