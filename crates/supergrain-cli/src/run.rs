@@ -118,10 +118,14 @@ fn checkpoint(world: &World, target: &Path) -> Result<()> {
         .into_os_string();
     temp.push(".checkpoint");
     let temp = PathBuf::from(temp);
-    let mut bytes = serde_json::to_vec(&Dump::of(world))?;
-    bytes.push(b'\n');
+    // Streamed, not built in memory first: a 100,000-grain dump is 40 MB of JSON.
     let written = std::fs::File::create(&temp)
-        .and_then(|mut f| f.write_all(&bytes).and_then(|()| f.sync_all()))
+        .and_then(|f| {
+            let mut out = std::io::BufWriter::new(f);
+            serde_json::to_writer(&mut out, &Dump::of(world))?;
+            out.write_all(b"\n")?;
+            out.into_inner().map_err(|e| e.into_error())?.sync_all()
+        })
         .and_then(|()| std::fs::rename(&temp, target));
     if let Err(e) = written {
         let _ = std::fs::remove_file(&temp);
