@@ -317,7 +317,8 @@ pub struct Workspace {
     /// Where each pair tested in this step (`(i, j)`, `i` the grain taking its turn) last found
     /// its deepest points: the next pass starts Newton there ([`warm_pair`]). Emptied at every
     /// step, so no run depends on it beyond the step: dumps and resumed runs are unchanged.
-    warm: HashMap<(usize, usize), Option<WarmStart>>,
+    /// Only pairs the certified path answered have one (not those its bounding circles parted).
+    warm: HashMap<(usize, usize), WarmStart>,
 }
 
 /// One step of the paper's loop: for each grain in turn, Verlet, then projection of its
@@ -659,10 +660,26 @@ fn resolve<B: BroadPhase>(
         }
         stats.tests += 1;
         let (a, b) = (&bodies[i], &bodies[j]);
-        let warm = warm_pair(settings, a, b).then(|| work.warm.entry((i, j)).or_default());
-        if let Some(p) =
-            grain_contact_at(settings, a, &work.poses[i], b, &work.poses[j], warm).penetration
-        {
+        let (pose_a, pose_b) = (&work.poses[i], &work.poses[j]);
+        let found = if !warm_pair(settings, a, b) {
+            grain_contact_at(settings, a, pose_a, b, pose_b, None)
+        } else if let Some(kept) = work.warm.get_mut(&(i, j)) {
+            // A persisting contact: one lookup, updated in place.
+            let mut warm = Some(*kept);
+            let found = grain_contact_at(settings, a, pose_a, b, pose_b, Some(&mut warm));
+            if let Some(w) = warm {
+                *kept = w;
+            }
+            found
+        } else {
+            let mut warm = None;
+            let found = grain_contact_at(settings, a, pose_a, b, pose_b, Some(&mut warm));
+            if let Some(w) = warm {
+                work.warm.insert((i, j), w);
+            }
+            found
+        };
+        if let Some(p) = found.penetration {
             let away = bodies[i].center - bodies[j].center;
             let a_push = safe_push(p.a_push, away, cap(&bodies[i]));
             if rank.is_some() || (sleeper && a_push.norm() <= settings.slop) {
@@ -743,11 +760,12 @@ mod tests {
         let mut work = Workspace::default();
         step(&mut bodies, &walls, &settings, &mut broad, &mut work);
         assert!(
-            work.warm.values().any(Option::is_some),
+            !work.warm.is_empty(),
             "the overlapping pair kept no warm start"
         );
         let stale = (usize::MAX, usize::MAX);
-        work.warm.insert(stale, None);
+        let kept = *work.warm.values().next().unwrap();
+        work.warm.insert(stale, kept);
         step(&mut bodies, &walls, &settings, &mut broad, &mut work);
         assert!(
             !work.warm.contains_key(&stale),
