@@ -664,11 +664,15 @@ fn resolve<B: BroadPhase>(
         let found = if !warm_pair(settings, a, b) {
             grain_contact_at(settings, a, pose_a, b, pose_b, None)
         } else if let Some(kept) = work.warm.get_mut(&(i, j)) {
-            // A persisting contact: one lookup, updated in place.
+            // A persisting contact: one lookup, updated in place; forgotten when the certified
+            // path found nothing to start from (a quadtree answer), as a new pair would be.
             let mut warm = Some(*kept);
             let found = grain_contact_at(settings, a, pose_a, b, pose_b, Some(&mut warm));
-            if let Some(w) = warm {
-                *kept = w;
+            match warm {
+                Some(w) => *kept = w,
+                None => {
+                    work.warm.remove(&(i, j));
+                }
             }
             found
         } else {
