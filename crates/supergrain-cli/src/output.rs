@@ -24,6 +24,13 @@ impl Output {
     /// `None` or `-`: standard output. Fails at once, before any work, if the file cannot be
     /// created.
     pub fn open(path: Option<&Path>) -> Result<Self> {
+        Self::open_tagged(path, None)
+    }
+
+    /// [`Output::open`] with `tag` in the temporary file's name, so that a second writer of the
+    /// same target (a run's checkpoints, while its final output stays open) has a file of its
+    /// own.
+    pub fn open_tagged(path: Option<&Path>, tag: Option<&str>) -> Result<Self> {
         let sink = match path {
             Some(target) if target.as_os_str() != "-" => {
                 if target.is_dir() {
@@ -32,8 +39,13 @@ impl Output {
                         target.display()
                     );
                 }
-                let temp = supergrain::io::temp_beside(target)
-                    .with_context(|| format!("output path {} names no file", target.display()))?;
+                let mut temp = supergrain::io::temp_beside(target)
+                    .with_context(|| format!("output path {} names no file", target.display()))?
+                    .into_os_string();
+                if let Some(tag) = tag {
+                    temp.push(format!(".{tag}"));
+                }
+                let temp = PathBuf::from(temp);
                 let file = File::create(&temp)
                     .with_context(|| format!("cannot write output file {}", target.display()))?;
                 Sink::File {

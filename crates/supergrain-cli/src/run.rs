@@ -110,28 +110,11 @@ pub struct Args {
     quiet: bool,
 }
 
-/// The --dump file written now, whole: through a temporary file of its own beside the target
-/// (not the final dump's, which stays open for the end of the run), renamed into place.
-fn checkpoint(world: &World, target: &Path) -> Result<()> {
-    let mut temp = supergrain::io::temp_beside(target)
-        .with_context(|| format!("output path {} names no file", target.display()))?
-        .into_os_string();
-    temp.push(".checkpoint");
-    let temp = PathBuf::from(temp);
-    // Streamed, not built in memory first: a 100,000-grain dump is 40 MB of JSON.
-    let written = std::fs::File::create(&temp)
-        .and_then(|f| {
-            let mut out = std::io::BufWriter::new(f);
-            serde_json::to_writer(&mut out, &Dump::of(world))?;
-            out.write_all(b"\n")?;
-            out.into_inner().map_err(|e| e.into_error())?.sync_all()
-        })
-        .and_then(|()| std::fs::rename(&temp, target));
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&temp);
-        return Err(e).with_context(|| format!("cannot write {}", target.display()));
-    }
-    Ok(())
+/// The dump of `world` into `out`, finished (renamed into place).
+fn write_dump(mut out: Output, world: &World) -> Result<()> {
+    serde_json::to_writer(&mut out, &Dump::of(world))?;
+    out.write_all(b"\n")?;
+    out.finish()
 }
 
 pub fn run(args: Args) -> Result<ExitCode> {
@@ -201,7 +184,8 @@ pub fn run(args: Args) -> Result<ExitCode> {
         if let (Some(every), Some(path)) = (args.checkpoint, args.dump.as_deref())
             && k % every == 0
             && k < steps
-            && let Err(e) = checkpoint(&world, path)
+            && let Err(e) = Output::open_tagged(Some(path), Some("checkpoint"))
+                .and_then(|out| write_dump(out, &world))
         {
             // The run goes on: its final outputs may still be written.
             eprintln!("warning: checkpoint at step {}: {e:#}", world.step);
@@ -256,10 +240,8 @@ pub fn run(args: Args) -> Result<ExitCode> {
         picture.write_all(world_svg(&world, 800).as_bytes())?;
         picture.finish()?;
     }
-    if let Some(mut d) = dump {
-        serde_json::to_writer(&mut d, &Dump::of(&world))?;
-        d.write_all(b"\n")?;
-        d.finish()?;
+    if let Some(d) = dump {
+        write_dump(d, &world)?;
     }
     if !args.quiet {
         eprintln!(

@@ -378,12 +378,11 @@ fn newton(
     let id = Rotation::IDENTITY;
     // The multiplier starts from the gradients at the start, as the first iteration finds them.
     let mut l = f64::NAN;
-    let mut converged = None;
-    let mut first = true;
     for _ in 0..MAX_ITERATIONS {
         let (fa, ga, ha) = value_gradient_hessian(own, id, Vec2::ZERO, x);
         let (_, gb, hb) = value_gradient_hessian(other, rot, c, x);
-        if l.is_nan() {
+        let first = l.is_nan();
+        if first {
             // The multiplier that best cancels `gb + l ga`: one division, no square root (the
             // ratio of the lengths cost an eighth of a circles step). Should the gradients not
             // point apart, the ratio of lengths.
@@ -406,7 +405,6 @@ fn newton(
             if opposite && fa.abs() <= 1e-10 && ga.dot(gb) < 0.0 {
                 return Some((x, Some(gb)));
             }
-            first = false;
         }
         let j = [
             [hb[0] + l * ha[0], hb[1] + l * ha[1], ga.x],
@@ -433,18 +431,15 @@ fn newton(
         // needs (half a final cell, about `2e-3` of the size at depth 7). 5% off a step of the
         // 100,000-grain heap.
         if step2 <= converged_step2 {
-            converged = Some(gb);
-            break;
+            // The last step solved `f_own + grad f_own . dx = 0`, so `f_own` is now of the
+            // order of the step squared (1e-12 of the size away from the boundary at most, far
+            // inside the 1e-9 the caller moves the point in): no projection, and its three
+            // powers, needed.
+            return x.is_finite().then_some((x, Some(gb)));
         }
     }
     if !x.is_finite() {
         return None;
-    }
-    if converged.is_some() {
-        // The last step solved `f_own + grad f_own . dx = 0`, so `f_own` is now of the order of
-        // the step squared (1e-12 of the size away from the boundary at most, far inside the
-        // 1e-9 the caller moves the point in): no projection, and its three powers, needed.
-        return Some((x, converged));
     }
     Some((radial_to_boundary(own, x)?, None))
 }

@@ -3,6 +3,11 @@ use crate::interval::{ImplicitShape, PlacedSuperellipse};
 
 /// `A1 -> B2` (paper III-A): from a point inside `other` along `grad f_other` to its boundary.
 pub(crate) fn push_out(other: &PlacedSuperellipse, from: Vec2) -> Vec2 {
+    if other.shape().exponents() == [2.0, 2.0]
+        && let Some(push) = ellipse_push(other, from)
+    {
+        return push;
+    }
     let centre = other.pose().center();
     // From any point within the bounding circle, this far along is outside it.
     let t_far = ((from - centre).norm() + other.shape().bounding_radius()) * (1.0 + 1e-9)
@@ -14,11 +19,6 @@ pub(crate) fn push_out(other: &PlacedSuperellipse, from: Vec2) -> Vec2 {
             .or_else(|| (from - centre).direction())
             .unwrap_or(Vec2::new(1.0, 0.0))
     };
-    if other.shape().exponents() == [2.0, 2.0]
-        && let Some(push) = ellipse_push(other, from)
-    {
-        return push;
-    }
     let exit = if super::certified::convex(other.shape()) {
         // The value and gradient at `from` serve both the direction and Newton's first step.
         let (f, g) = other.value_and_gradient(from);
@@ -212,6 +212,30 @@ mod tests {
     use rand::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
+    /// A pose anywhere in [-5, 5]^2 at any angle.
+    fn random_pose(rng: &mut ChaCha8Rng) -> Pose {
+        Pose::new(
+            Vec2::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0)),
+            rng.random_range(0.0..std::f64::consts::TAU),
+        )
+        .unwrap()
+    }
+
+    /// Where `inside(t)` turns false on `[0, hi]` (true at 0, false at `hi`), by 200 halvings:
+    /// to the last bit.
+    fn bisect(hi: f64, inside: impl Fn(f64) -> bool) -> f64 {
+        let (mut lo, mut hi) = (0.0, hi);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if inside(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
     /// Where the ray from `p` (inside) along the unit `d` leaves the ellipse with semi-axes
     /// `(a, b)` at the origin: the positive root of `(p + t d)^T D (p + t d) = 1`, a quadratic.
     fn ellipse_exit(a: f64, b: f64, p: Vec2, d: Vec2) -> f64 {
@@ -274,11 +298,7 @@ mod tests {
             };
             let (a, b) = (rng.random_range(0.1..2.0), rng.random_range(0.1..2.0));
             let shape = Superellipse::new([a, b], [e(&mut rng), e(&mut rng)]).unwrap();
-            let pose = Pose::new(
-                Vec2::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0)),
-                rng.random_range(0.0..std::f64::consts::TAU),
-            )
-            .unwrap();
+            let pose = random_pose(&mut rng);
             let placed = PlacedSuperellipse::new(shape, pose);
             let theta: f64 = rng.random_range(0.0..std::f64::consts::TAU);
             let scale = 1.0 - 10f64.powf(-rng.random_range(0.0..12.0));
@@ -296,16 +316,7 @@ mod tests {
             let exact = if ellipse {
                 ellipse_exit(a, b, local, d)
             } else {
-                let (mut lo, mut hi) = (0.0, 4.0 * a.max(b));
-                for _ in 0..200 {
-                    let mid = 0.5 * (lo + hi);
-                    if shape.local_value(local + d * mid) < 0.0 {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                lo
+                bisect(4.0 * a.max(b), |t| shape.local_value(local + d * t) < 0.0)
             };
             let err = (push.norm() - exact).abs();
             assert!(
@@ -328,11 +339,7 @@ mod tests {
                 [rng.random_range(1.0..8.0), rng.random_range(1.0..8.0)],
             )
             .unwrap();
-            let pose = Pose::new(
-                Vec2::new(rng.random_range(-5.0..5.0), rng.random_range(-5.0..5.0)),
-                rng.random_range(0.0..std::f64::consts::TAU),
-            )
-            .unwrap();
+            let pose = random_pose(&mut rng);
             let placed = PlacedSuperellipse::new(shape, pose);
             let theta: f64 = rng.random_range(0.0..std::f64::consts::TAU);
             let scale = 1.0 - 10f64.powf(-rng.random_range(0.0..10.0));
@@ -341,17 +348,7 @@ mod tests {
             let d = Vec2::new(phi.cos(), phi.sin());
             let r = shape.bounding_radius();
             let t_far = 2.0 * r * 1.01;
-            // Bisection: inside at `lo`, outside at `hi`, 200 halvings.
-            let (mut lo, mut hi) = (0.0, t_far);
-            for _ in 0..200 {
-                let mid = 0.5 * (lo + hi);
-                if placed.value(p + d * mid) < 0.0 {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
-            let exact = p + d * lo;
+            let exact = p + d * bisect(t_far, |t| placed.value(p + d * t) < 0.0);
             let found = ray_to_convex_boundary(&placed, p, d, t_far);
             let err = (found - exact).norm();
             assert!(

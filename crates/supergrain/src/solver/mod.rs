@@ -14,13 +14,14 @@ pub use response::{project, safe_push};
 
 use crate::broad_phase::BroadPhase;
 use crate::contact::{
-    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact, contact_quadtree,
-    contact_wall, contact_wall_quadtree, contact_warm, disk_disk,
+    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_quadtree, contact_wall,
+    contact_wall_quadtree, contact_warm, disk_disk,
 };
 use crate::geometry::{Aabb, Vec2};
 use crate::shape::{HalfPlane, Pose, Superellipse};
 use crate::subdivision::Precision;
 use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 /// A grain: its shape, where it is and where it was one step ago (Verlet keeps velocity
 /// implicit).
@@ -235,23 +236,17 @@ fn grain_contact_at(
     warm: Option<&mut Option<WarmStart>>,
 ) -> Contact {
     match settings.narrow_phase {
-        NarrowPhase::Interval => match warm {
-            Some(warm) => contact_warm(
+        NarrowPhase::Interval => {
+            let mut cold = None;
+            contact_warm(
                 &a.shape,
                 pose_a,
                 &b.shape,
                 pose_b,
                 &pair_precision(settings, a, b),
-                warm,
-            ),
-            None => contact(
-                &a.shape,
-                pose_a,
-                &b.shape,
-                pose_b,
-                &pair_precision(settings, a, b),
-            ),
-        },
+                warm.unwrap_or(&mut cold),
+            )
+        }
         NarrowPhase::Quadtree => contact_quadtree(
             &a.shape,
             pose_a,
@@ -661,27 +656,12 @@ fn resolve<B: BroadPhase>(
         stats.tests += 1;
         let (a, b) = (&bodies[i], &bodies[j]);
         let (pose_a, pose_b) = (&work.poses[i], &work.poses[j]);
-        let found = if !warm_pair(settings, a, b) {
-            grain_contact_at(settings, a, pose_a, b, pose_b, None)
-        } else if let Some(kept) = work.warm.get_mut(&(i, j)) {
-            // A persisting contact: one lookup, updated in place; forgotten when the certified
-            // path found nothing to start from (a quadtree answer), as a new pair would be.
-            let mut warm = Some(*kept);
-            let found = grain_contact_at(settings, a, pose_a, b, pose_b, Some(&mut warm));
-            match warm {
-                Some(w) => *kept = w,
-                None => {
-                    work.warm.remove(&(i, j));
-                }
-            }
-            found
+        let found = if warm_pair(settings, a, b) {
+            with_warm_start(&mut work.warm, (i, j), |warm| {
+                grain_contact_at(settings, a, pose_a, b, pose_b, Some(warm))
+            })
         } else {
-            let mut warm = None;
-            let found = grain_contact_at(settings, a, pose_a, b, pose_b, Some(&mut warm));
-            if let Some(w) = warm {
-                work.warm.insert((i, j), w);
-            }
-            found
+            grain_contact_at(settings, a, pose_a, b, pose_b, None)
         };
         if let Some(p) = found.penetration {
             let away = bodies[i].center - bodies[j].center;
@@ -714,6 +694,37 @@ fn resolve<B: BroadPhase>(
 /// their centres Newton starts on the answer, which a warm start, moved with the grains, is not.
 fn warm_pair(settings: &Settings, a: &Body, b: &Body) -> bool {
     settings.narrow_phase == NarrowPhase::Interval && !(a.shape.is_circle() && b.shape.is_circle())
+}
+
+/// Runs `test` from the pair's warm start, if it has one, and keeps what the test leaves: the
+/// new start, or none when the certified path found nothing to start from (a quadtree answer),
+/// as for a new pair. One lookup either way.
+fn with_warm_start(
+    warm: &mut HashMap<(usize, usize), WarmStart>,
+    pair: (usize, usize),
+    test: impl FnOnce(&mut Option<WarmStart>) -> Contact,
+) -> Contact {
+    match warm.entry(pair) {
+        Entry::Occupied(mut kept) => {
+            let mut start = Some(*kept.get());
+            let found = test(&mut start);
+            match start {
+                Some(w) => *kept.get_mut() = w,
+                None => {
+                    kept.remove();
+                }
+            }
+            found
+        }
+        Entry::Vacant(slot) => {
+            let mut start = None;
+            let found = test(&mut start);
+            if let Some(w) = start {
+                slot.insert(w);
+            }
+            found
+        }
+    }
 }
 
 /// The largest single correction of a grain: a quarter of its smaller semi-axis.
