@@ -491,6 +491,7 @@ pub fn scaling_cases(
                     &world.bodies,
                     &world.walls,
                     &world.settings,
+                    0,
                 )
                 .map_or(0, |s| s.count());
                 let pool = rayon::ThreadPoolBuilder::new()

@@ -319,13 +319,14 @@ pub struct Workspace {
 /// One step of the paper's loop: for each grain in turn, Verlet, then projection of its
 /// collisions until none is left or `max_iterations` passes are done. In a box wide enough for
 /// [`Settings::strip_width`], the grains go strip by strip, strips far apart at once on all cores
-/// ([`strips`]).
+/// ([`strips`]); `number` is the step's number, whose parity places the strips' cuts.
 pub fn step<B: BroadPhase>(
     bodies: &mut [Body],
     walls: &Walls,
     settings: &Settings,
     broad: &mut B,
     work: &mut Workspace,
+    number: u64,
 ) -> StepStats {
     let mut stats = StepStats::default();
     let half_planes = walls.half_planes();
@@ -337,7 +338,7 @@ pub fn step<B: BroadPhase>(
     work.start.clear();
     work.start.extend(bodies.iter().map(|b| b.center));
     work.warm.clear();
-    if let Some(strips) = strips::Strips::new(bodies, walls, settings) {
+    if let Some(strips) = strips::Strips::new(bodies, walls, settings, number) {
         strips.step(bodies, &ctx, &mut stats);
         // Each strip kept its own boxes; sleeping reads the final ones.
         rebuild_boxes(bodies, broad, work);
@@ -773,7 +774,7 @@ mod tests {
         let settings = Settings::default();
         let mut broad = Any::new(Kind::Grid);
         let mut work = Workspace::default();
-        step(&mut bodies, &walls, &settings, &mut broad, &mut work);
+        step(&mut bodies, &walls, &settings, &mut broad, &mut work, 0);
         assert!(
             !work.warm.is_empty(),
             "the overlapping pair kept no warm start"
@@ -781,7 +782,7 @@ mod tests {
         let stale = (usize::MAX, usize::MAX);
         let kept = *work.warm.values().next().unwrap();
         work.warm.insert(stale, kept);
-        step(&mut bodies, &walls, &settings, &mut broad, &mut work);
+        step(&mut bodies, &walls, &settings, &mut broad, &mut work, 0);
         assert!(
             !work.warm.contains_key(&stale),
             "a warm start outlived its step"

@@ -65,8 +65,15 @@ struct Local {
 }
 
 impl Strips {
-    /// The strips of this step, or `None` for the paper's order (strips off, or too few).
-    pub fn new(bodies: &[Body], walls: &Walls, settings: &Settings) -> Option<Strips> {
+    /// The strips of step number `step`, or `None` for the paper's order (strips off, or too
+    /// few). On odd steps the cuts move by half a strip (one strip more, the two end ones half
+    /// wide): with fixed cuts, two grains either side of one are projected in the same order,
+    /// phase after phase, step after step, and some such pairs among sleepers settle into a
+    /// cycle that never ends (the 100,000-grain pour: 700 grains in two dozen places, for 40,000
+    /// steps; grain by grain, the first one traced sat 0.23 from a cut). Every interior strip
+    /// keeps its width, so the strips' guarantee holds, and the shift depends only on the step's
+    /// number: runs stay the same on any number of threads, and resumed runs the same.
+    pub fn new(bodies: &[Body], walls: &Walls, settings: &Settings, step: u64) -> Option<Strips> {
         let width = walls.right - walls.left;
         if !(settings.strip_width > 0.0 && width.is_finite()) {
             return None;
@@ -78,11 +85,15 @@ impl Strips {
         if count < MIN_STRIPS as f64 {
             return None;
         }
-        let count = count as usize;
-        let strip = width / count as f64;
+        let strip = width / count;
+        let (count, shift) = if step % 2 == 1 {
+            (count as usize + 1, 0.5)
+        } else {
+            (count as usize, 0.0)
+        };
         let mut members = vec![Vec::new(); count];
         for (i, b) in bodies.iter().enumerate() {
-            let k = ((b.center.x - walls.left) / strip).floor();
+            let k = ((b.center.x - walls.left) / strip + shift).floor();
             // Outside the box (or NaN): the nearest strip.
             let k = if k >= 0.0 {
                 (k as usize).min(count - 1)
@@ -97,6 +108,11 @@ impl Strips {
     /// How many strips.
     pub fn count(&self) -> usize {
         self.members.len()
+    }
+
+    /// Strip `k`'s grains, in increasing index order.
+    pub fn members(&self, k: usize) -> &[usize] {
+        &self.members[k]
     }
 
     /// The step's projection, strip by strip (the caller handles sleep).

@@ -155,6 +155,7 @@ impl World {
             &self.settings,
             &mut self.broad,
             &mut self.work,
+            self.step,
         );
         self.step += 1;
         stats
