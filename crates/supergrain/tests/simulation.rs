@@ -569,6 +569,32 @@ fn a_cycle_at_a_strip_cut_comes_to_rest_when_the_cuts_move() {
     }
 }
 
+/// Another cycle of the 100,000-grain pour, which moving cuts did not end: 507 grains cut out
+/// of it at step 75,970 (x from 800), where about 44 grains on top of the heap rose slowly,
+/// pushed up from below by the shock sweep, collapsed and rose again: not at rest after 20,000
+/// steps. A grain met at the side in the shock sweep now shares the correction instead of the
+/// higher-centred one taking it all, and the box rests in about 1,200 steps.
+#[test]
+fn a_cluster_lifted_from_the_side_comes_to_rest() {
+    let text = include_str!("data/side-contact-cycle.json");
+    let dump: Dump = serde_json::from_str(text).expect("the fixture parses");
+    let mut world = dump.to_world().expect("the fixture is a world");
+    assert!(world.settings.shock_propagation);
+    let awake = world.bodies.len() - world.asleep();
+    assert!(awake > 40, "only {awake} grains awake at the start");
+    let (mut calm, mut steps) = (0, 0);
+    while calm < 100 {
+        world.step();
+        steps += 1;
+        calm = if world.max_speed() < 0.05 {
+            calm + 1
+        } else {
+            0
+        };
+        assert!(steps < 4000, "not at rest after {steps} steps");
+    }
+}
+
 /// Projected strip by strip, a wide pour settles: in the box, no overlap beyond the bar, at
 /// rest. (Not `assert_supported`: in a heap one or two grains deep on a flat floor, a few grains
 /// come to sleep perched on two others and roll off when woken, about 0.1 in 100 steps, in the

@@ -585,6 +585,9 @@ fn shock_order(bodies: &[Body], order: &mut Vec<usize>, rank: &mut Vec<usize>) {
 /// velocity into its supports but creates none away from them. Otherwise a grain the sweep lifts
 /// by `d` leaves with speed `d / h`, rises, falls back and is lifted again.
 ///
+/// A grain ranked below but met at the side (the push less than 30 degrees above horizontal)
+/// is not a support: the two share that correction, as in the passes (see [`resolve`]).
+///
 /// This is grain `i`'s turn in it: out of the walls and of every grain ranked below it.
 fn shock_grain<B: BroadPhase>(
     i: usize,
@@ -667,7 +670,13 @@ fn resolve<B: BroadPhase>(
         if let Some(p) = found.penetration {
             let away = bodies[i].center - bodies[j].center;
             let a_push = safe_push(p.a_push, away, cap(&bodies[i]));
-            if rank.is_some() || (sleeper && a_push.norm() <= settings.slop) {
+            // In the shock sweep, a grain ranked below (lower centre) but met at the side (the
+            // push on `i` less than 30 degrees above horizontal, or downward) shares the
+            // correction as in the passes: taking it whole lifted the taller of two grains side
+            // by side, and clusters on the 100,000-grain heap rose slowly and collapsed again
+            // and again, never at rest.
+            let side = rank.is_some() && !sleeper && a_push.y < 0.5 * a_push.norm();
+            if (rank.is_some() && !side) || (sleeper && a_push.norm() <= settings.slop) {
                 // In the shock sweep a grain below, or a sleeper anywhere; otherwise a sleeper
                 // pushed into no deeper than the slop: it holds like a wall, and the grain
                 // takes the whole correction.
