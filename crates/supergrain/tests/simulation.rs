@@ -7,6 +7,7 @@ use std::f64::consts::TAU;
 
 use proptest::prelude::*;
 use supergrain::io::Dump;
+use supergrain::solver::strips::Strips;
 use supergrain::world::{Group, Range, Scene, World};
 
 /// Boundary samples of a grain, from the superellipse's parametric form written here again.
@@ -93,8 +94,15 @@ const REST: f64 = 0.049;
 /// steps running, or `cap` steps.
 fn run_to_rest(scene: &Scene, rest: f64, cap: u64) -> World {
     let mut world = World::new(scene);
+    steps_to_rest(&mut world, rest, cap);
+    world
+}
+
+/// Steps `world` until every grain has appeared and the fastest grain is slower than `rest` for
+/// 100 steps running: how many steps that took, or `None` after `cap` steps.
+fn steps_to_rest(world: &mut World, rest: f64, cap: u64) -> Option<u64> {
     let mut calm = 0;
-    while world.step < cap {
+    for n in 1..=cap {
         world.step();
         calm = if world.all_spawned() && world.max_speed() < rest {
             calm + 1
@@ -102,10 +110,10 @@ fn run_to_rest(scene: &Scene, rest: f64, cap: u64) -> World {
             0
         };
         if calm >= 100 {
-            break;
+            return Some(n);
         }
     }
-    world
+    None
 }
 
 /// The bar: all grains in the box, none overlapping another by more than 2% of the
@@ -410,13 +418,8 @@ fn strips_give_the_same_result_on_one_thread_and_many() {
         while world.step < 100 {
             world.step();
         }
-        let strips = supergrain::solver::strips::Strips::new(
-            &world.bodies,
-            &world.walls,
-            &world.settings,
-            0,
-        )
-        .expect("a box of ten strips is cut");
+        let strips = Strips::new(&world.bodies, &world.walls, &world.settings, 0)
+            .expect("a box of ten strips is cut");
         assert_eq!(strips.count(), 10);
         let one = run_on_threads(&scene, 1, 200);
         assert_eq!(
@@ -455,17 +458,12 @@ fn a_strip_of_sleepers_is_passed_over_but_not_one_with_a_grain_awake() {
         b.calm = sleep;
     }
     // The last grain is the last of its strip: not the first one a filter would look at.
-    let count =
-        supergrain::solver::strips::Strips::new(&world.bodies, &world.walls, &world.settings, 0)
-            .expect("a box of ten strips is cut")
-            .count();
-    let strip_of = |x: f64| ((x - world.walls.left) / (30.0 / count as f64)).floor();
+    let strips = Strips::new(&world.bodies, &world.walls, &world.settings, world.step)
+        .expect("a box of ten strips is cut");
     let g = world.bodies.len() - 1;
     let x = world.bodies[g].center.x;
     assert!(
-        world.bodies[..g]
-            .iter()
-            .any(|b| strip_of(b.center.x) == strip_of(x)),
+        strips.members(strip_of(&strips, g)).len() > 1,
         "the awake grain should share its strip with sleepers"
     );
     let lifted = supergrain::geometry::Vec2::new(x, scene.top + 3.0);
@@ -503,18 +501,8 @@ fn strip_cuts_move_by_half_a_strip_on_odd_steps() {
         b.center.x = left + x;
     }
     let strips = |number: u64| {
-        supergrain::solver::strips::Strips::new(
-            &world.bodies,
-            &world.walls,
-            &world.settings,
-            number,
-        )
-        .expect("a box of ten strips is cut")
-    };
-    let strip_of = |s: &supergrain::solver::strips::Strips, i: usize| {
-        (0..s.count())
-            .find(|&k| s.members(k).contains(&i))
-            .expect("every grain is in a strip")
+        Strips::new(&world.bodies, &world.walls, &world.settings, number)
+            .expect("a box of ten strips is cut")
     };
     for number in [0, 2, 10] {
         let even = strips(number);
@@ -541,32 +529,13 @@ fn strip_cuts_move_by_half_a_strip_on_odd_steps() {
 /// bring it to rest in a few hundred.
 #[test]
 fn a_cycle_at_a_strip_cut_comes_to_rest_when_the_cuts_move() {
-    let text = include_str!("data/strip-cut-cycle.json");
-    let dump: Dump = serde_json::from_str(text).expect("the fixture parses");
-    let mut world = dump.to_world().expect("the fixture is a world");
+    let mut world = cut_out(include_str!("data/strip-cut-cycle.json"), 50);
     assert!(
-        supergrain::solver::strips::Strips::new(
-            &world.bodies,
-            &world.walls,
-            &world.settings,
-            world.step
-        )
-        .is_some_and(|s| s.count() == 15),
+        Strips::new(&world.bodies, &world.walls, &world.settings, world.step)
+            .is_some_and(|s| s.count() == 15),
         "the fixture should be cut into the pour's 15 strips"
     );
-    let awake = world.bodies.len() - world.asleep();
-    assert!(awake > 50, "only {awake} grains awake at the start");
-    let (mut calm, mut steps) = (0, 0);
-    while calm < 100 {
-        world.step();
-        steps += 1;
-        calm = if world.max_speed() < 0.05 {
-            calm + 1
-        } else {
-            0
-        };
-        assert!(steps < 3000, "not at rest after {steps} steps");
-    }
+    assert_rests_before(&mut world, 3000);
 }
 
 /// Another cycle of the 100,000-grain pour, which moving cuts did not end: 507 grains cut out
@@ -576,23 +545,36 @@ fn a_cycle_at_a_strip_cut_comes_to_rest_when_the_cuts_move() {
 /// higher-centred one taking it all, and the box rests in about 1,200 steps.
 #[test]
 fn a_cluster_lifted_from_the_side_comes_to_rest() {
-    let text = include_str!("data/side-contact-cycle.json");
-    let dump: Dump = serde_json::from_str(text).expect("the fixture parses");
-    let mut world = dump.to_world().expect("the fixture is a world");
+    let mut world = cut_out(include_str!("data/side-contact-cycle.json"), 40);
     assert!(world.settings.shock_propagation);
-    let awake = world.bodies.len() - world.asleep();
-    assert!(awake > 40, "only {awake} grains awake at the start");
-    let (mut calm, mut steps) = (0, 0);
-    while calm < 100 {
-        world.step();
-        steps += 1;
-        calm = if world.max_speed() < 0.05 {
-            calm + 1
-        } else {
-            0
-        };
-        assert!(steps < 4000, "not at rest after {steps} steps");
-    }
+    assert_rests_before(&mut world, 4000);
+}
+
+/// A box cut out of the 100,000-grain pour (a dump in `tests/data`), with more than `awake`
+/// grains awake.
+fn cut_out(text: &str, awake: usize) -> World {
+    let dump: Dump = serde_json::from_str(text).expect("the fixture parses");
+    let world = dump.to_world().expect("the fixture is a world");
+    let moving = world.bodies.len() - world.asleep();
+    assert!(moving > awake, "only {moving} grains awake at the start");
+    world
+}
+
+/// At rest as `supergrain run --until-rest` means it (no grain faster than 0.05 for 100 steps)
+/// in fewer than `limit` steps.
+fn assert_rests_before(world: &mut World, limit: u64) {
+    assert!(
+        steps_to_rest(world, 0.05, limit - 1).is_some(),
+        "not at rest after {} steps",
+        limit - 1
+    );
+}
+
+/// The strip that holds grain `i`.
+fn strip_of(strips: &Strips, i: usize) -> usize {
+    (0..strips.count())
+        .find(|&k| strips.members(k).contains(&i))
+        .expect("every grain is in a strip")
 }
 
 /// Projected strip by strip, a wide pour settles: in the box, no overlap beyond the bar, at

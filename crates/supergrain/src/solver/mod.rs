@@ -586,7 +586,7 @@ fn shock_order(bodies: &[Body], order: &mut Vec<usize>, rank: &mut Vec<usize>) {
 /// by `d` leaves with speed `d / h`, rises, falls back and is lifted again.
 ///
 /// A grain ranked below but met at the side (the push less than 30 degrees above horizontal)
-/// is not a support: the two share that correction, as in the passes (see [`resolve`]).
+/// is not a support: the two share that correction, as in the passes ([`SIDE_SINE`]).
 ///
 /// This is grain `i`'s turn in it: out of the walls and of every grain ranked below it.
 fn shock_grain<B: BroadPhase>(
@@ -617,6 +617,13 @@ fn shock_grain<B: BroadPhase>(
 
 /// Relaxation sweeps over all grains at the end of a step.
 const CLOSING_SWEEPS: usize = 2;
+
+/// In the shock sweep, a grain ranked below (lower centre) is met at the side when the push on
+/// the upper one rises less than this sine above horizontal (30 degrees), or points down. It is
+/// no support then: taking the whole correction lifted the taller of two grains side by side,
+/// and clusters on the 100,000-grain heap rose slowly and collapsed again and again, never at
+/// rest.
+const SIDE_SINE: f64 = 0.5;
 
 /// One projection pass for grain `i` against the walls and its broad-phase candidates; returns
 /// how many of its contacts it corrected. With `rank` (shock propagation), only grains ranked
@@ -670,16 +677,17 @@ fn resolve<B: BroadPhase>(
         if let Some(p) = found.penetration {
             let away = bodies[i].center - bodies[j].center;
             let a_push = safe_push(p.a_push, away, cap(&bodies[i]));
-            // In the shock sweep, a grain ranked below (lower centre) but met at the side (the
-            // push on `i` less than 30 degrees above horizontal, or downward) shares the
-            // correction as in the passes: taking it whole lifted the taller of two grains side
-            // by side, and clusters on the 100,000-grain heap rose slowly and collapsed again
-            // and again, never at rest.
-            let side = rank.is_some() && !sleeper && a_push.y < 0.5 * a_push.norm();
-            if (rank.is_some() && !side) || (sleeper && a_push.norm() <= settings.slop) {
-                // In the shock sweep a grain below, or a sleeper anywhere; otherwise a sleeper
-                // pushed into no deeper than the slop: it holds like a wall, and the grain
-                // takes the whole correction.
+            // Whether `j` holds like a wall, `i` taking the whole correction: in the shock
+            // sweep a sleeper, or a grain below unless met at the side ([`SIDE_SINE`]); in the
+            // passes a sleeper pushed into no deeper than the slop. Otherwise the two share it.
+            let holds = match rank {
+                Some(_) => {
+                    let side = a_push.y < SIDE_SINE * a_push.norm();
+                    sleeper || !side
+                }
+                None => sleeper && a_push.norm() <= settings.slop,
+            };
+            if holds {
                 project(&mut bodies[i], p.a_deepest, a_push, 1.0, settings.slop);
             } else {
                 if sleeper {
