@@ -234,7 +234,7 @@ fn mixed_settles_like_fig_13() {
 /// poured with the shock-propagation sweep: it comes to rest, within the overlap bar, and held up
 /// by its grains rather than by sleep. (Without the sweep the same pour had not rested after
 /// 9,800 steps, its bottom layers overlapping by up to 0.007: too slow a contrast for a test;
-/// the README has the figures.)
+/// docs/performance.md has the figures.)
 #[test]
 fn a_deep_heap_rests_with_shock_propagation() {
     let mut scene = Scene::preset("circles").unwrap();

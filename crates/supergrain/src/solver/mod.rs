@@ -2,8 +2,8 @@
 //! projection of its collisions with the other grains and the walls, repeated until none is
 //! left or `max_iterations` is reached (Jakobsen, "Advanced character physics").
 //!
-//! Our additions, each needed for heaps to come to rest and each measured (README, "Where we
-//! depart from the paper"): a slop below which contacts move a grain straight out without
+//! Our additions, each needed for heaps to come to rest and each measured (docs/physics.md,
+//! "Where we depart from the paper"): a slop below which contacts move a grain straight out without
 //! turning it, pushes that never point into the other grain and are capped, two closing sweeps
 //! over all grains (or, for deep heaps, one shock-propagation sweep from the floor up), and
 //! deeper quadtrees for walls and for pairs with a star.
