@@ -154,9 +154,9 @@ impl Plans {
         Target::checked(Some(path)).map(Some)
     }
 
-    /// The folder output of `flag` (files named by the command go into it): made if missing,
-    /// proven writable, the temporaries of a killed run's files removed; returned canonical.
-    pub fn folder(&mut self, flag: &'static str, dir: &Path) -> Result<PathBuf> {
+    /// The folder output of `flag` (files named by the command go into it), claimed: make it
+    /// with [`Folder::make`] once every output is claimed.
+    pub fn folder(&mut self, flag: &'static str, dir: &Path) -> Result<Folder> {
         let fail = || format!("cannot create output folder {}", dir.display());
         // Resolved as a file would be, so that a folder and a file of one name clash.
         let named = match destination(dir) {
@@ -167,6 +167,30 @@ impl Plans {
             Err(e) => return Err(e).with_context(fail),
         };
         self.claim(flag, &named, dir)?;
+        Ok(Folder(dir.to_path_buf()))
+    }
+
+    fn claim(&mut self, flag: &'static str, identity: &Path, shown: &Path) -> Result<()> {
+        if let Some((other, _)) = self.taken.iter().find(|(_, p)| p == identity) {
+            bail!(
+                "{other} and {flag} both write {}: give each output a path of its own",
+                shown.display()
+            );
+        }
+        self.taken.push((flag, identity.to_path_buf()));
+        Ok(())
+    }
+}
+
+/// A folder output claimed by [`Plans::folder`], not yet made.
+pub struct Folder(PathBuf);
+
+impl Folder {
+    /// Makes the folder if missing, proves it writable and removes the temporaries a killed
+    /// run left of its files; returns it canonical.
+    pub fn make(self) -> Result<PathBuf> {
+        let dir = &self.0;
+        let fail = || format!("cannot create output folder {}", dir.display());
         std::fs::create_dir_all(dir).with_context(fail)?;
         let probe = dir.join(".supergrain-write-test");
         std::fs::write(&probe, b"")
@@ -189,17 +213,6 @@ impl Plans {
             }
         }
         Ok(dir)
-    }
-
-    fn claim(&mut self, flag: &'static str, identity: &Path, shown: &Path) -> Result<()> {
-        if let Some((other, _)) = self.taken.iter().find(|(_, p)| p == identity) {
-            bail!(
-                "{other} and {flag} both write {}: give each output a path of its own",
-                shown.display()
-            );
-        }
-        self.taken.push((flag, identity.to_path_buf()));
-        Ok(())
     }
 }
 

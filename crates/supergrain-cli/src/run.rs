@@ -15,7 +15,7 @@ use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::solver::NarrowPhase;
 use supergrain::world::{PRESETS, Scene, World};
 
-use crate::output::{Output, Plans, Target};
+use crate::output::{Folder, Output, Plans, Target};
 use crate::picture::{PictureArgs, save_frame, save_png};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -157,6 +157,8 @@ pub fn run(args: Args) -> Result<ExitCode> {
         .as_deref()
         .map(|dir| plans.folder("--frames", dir))
         .transpose()?;
+    let vtk = vtk.map(Folder::make).transpose()?;
+    let frames = frames.map(Folder::make).transpose()?;
     // The streams are written as the run goes.
     let mut trajectory = trajectory_to.as_ref().map(Target::open).transpose()?;
     if let Some(t) = trajectory.as_mut() {

@@ -363,3 +363,76 @@ pub enum Touch {
     /// Grain `i` is in a wall.
     Wall(usize, WallPenetration),
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::NarrowPhase;
+    use crate::subdivision::Precision;
+
+    /// The mixed preset with slow steps (the quadtree at depth 12), so that a flag raised at
+    /// any moment almost surely lands in the middle of one.
+    fn slow_world() -> World {
+        let mut scene = Scene::preset("mixed").expect("a preset");
+        scene.spawn_interval = 1;
+        scene.settings.narrow_phase = NarrowPhase::Quadtree;
+        scene.settings.precision = Precision::new(12, 0.0).expect("a valid precision");
+        World::new(&scene)
+    }
+
+    /// What a dump would hold of a world.
+    fn state(w: &World) -> (Vec<Body>, Vec<Pending>, u64, Vec<Vec2>) {
+        (
+            w.bodies.clone(),
+            w.pending.iter().copied().collect(),
+            w.step,
+            (0..w.bodies.len()).map(|i| w.velocity(i)).collect(),
+        )
+    }
+
+    /// A stop raised while the world steps: the step under way is abandoned and the world is
+    /// exactly that of an unstopped run of the steps done (grains, spawn queue, step count,
+    /// velocities), from which it goes on as that run does.
+    #[test]
+    fn a_stopped_step_leaves_the_last_whole_step() {
+        let mut world = slow_world();
+        for _ in 0..30 {
+            world.step();
+        }
+        let stop = AtomicBool::new(false);
+        let mut stopped = 0;
+        for delay in [3, 11, 29] {
+            stop.store(false, Ordering::SeqCst);
+            std::thread::scope(|s| {
+                s.spawn(|| {
+                    std::thread::sleep(std::time::Duration::from_millis(delay));
+                    stop.store(true, Ordering::SeqCst);
+                });
+                while world.step_or_stop(&stop).is_ok() {}
+            });
+            stopped += 1;
+            let mut reference = slow_world();
+            while reference.step < world.step {
+                reference.step();
+            }
+            assert_eq!(
+                state(&world),
+                state(&reference),
+                "stop {stopped}, after {delay} ms, at step {}",
+                world.step
+            );
+            world.step();
+            reference.step();
+            assert_eq!(state(&world), state(&reference), "after the stop {stopped}");
+        }
+    }
+
+    #[test]
+    fn a_step_asked_to_stop_before_it_starts_changes_nothing() {
+        let mut world = slow_world();
+        world.step();
+        let before = state(&world);
+        assert_eq!(world.step_or_stop(&AtomicBool::new(true)), Err(Stopped));
+        assert_eq!(state(&world), before);
+    }
+}
