@@ -39,7 +39,7 @@ Examples:
   supergrain run examples/scenes/pour-1000.toml --until-rest --steps 20000 --svg pour.svg
 
 The presets are the paper's four scenes (Figs. 10-13): circles, ellipses, squircles, mixed.
-A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end. Ctrl-C stops after the current step and still writes\nevery output (exit code 130).")]
+A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end. Ctrl-C (or SIGTERM) stops within a second, even in the\nmiddle of a slow step, and still writes every output with the last whole step (exit code\n130); a second Ctrl-C quits at once.")]
 pub struct Args {
     /// A scene file (TOML; see examples/scenes/).
     #[arg(value_name = "SCENE.toml", conflicts_with_all = ["preset", "resume"])]
@@ -281,8 +281,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(t) = trajectory {
         failures.keep(t.finish());
     }
+    // A GIF that failed during the run is not renamed into place (dropped, its temporary goes).
+    let gif_whole = gif.is_some();
     drop(gif);
-    if let Some(g) = gif_out {
+    if let Some(g) = gif_out
+        && gif_whole
+    {
         failures.keep(g.finish());
     }
     if let Some(to) = png {
