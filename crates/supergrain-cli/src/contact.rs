@@ -11,7 +11,7 @@ use supergrain::io::{ContactAnswer, ContactQuery, ShapeJson};
 use supergrain::render::contact_svg;
 use supergrain::subdivision::{MAX_DEPTH, Precision};
 
-use crate::output::Output;
+use crate::output::{Plans, Target};
 
 #[derive(Parser)]
 #[command(after_help = "\
@@ -94,9 +94,17 @@ fn parse_shape(s: &str) -> Result<ShapeJson, String> {
 
 pub fn run(args: Args) -> Result<ExitCode> {
     let defaults = Precision::new(args.depth, args.eps).context("invalid --depth/--eps")?;
-    // Open every output before any work, so a bad path fails fast.
-    let mut out = Output::open(args.output.as_deref())?;
-    let mut svg = Output::optional(args.svg.as_deref())?;
+    // Plan every output before any work, so a bad path, or -o and --svg on one path, fails
+    // fast.
+    let mut plans = Plans::default();
+    let out_to = plans.file("--output", args.output.as_deref())?;
+    let svg_to = plans.file("--svg", args.svg.as_deref())?;
+    let mut out = match out_to {
+        Some(to) => to,
+        None => Target::resolve(None)?,
+    }
+    .open()?;
+    let mut svg = svg_to.as_ref().map(Target::open).transpose()?;
     let mut failed = 0usize;
     if let Some(path) = &args.batch {
         let input: Box<dyn BufRead> = if path.as_os_str() == "-" {

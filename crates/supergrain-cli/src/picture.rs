@@ -9,7 +9,7 @@ use supergrain::render::raster::{Antialias, MAX_AA_DEPTH};
 use supergrain::render::{Colouring, Style, render_world};
 use supergrain::world::World;
 
-use crate::output::Output;
+use crate::output::{Output, Target};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum ColourArg {
@@ -66,8 +66,9 @@ pub fn save_png(world: &World, style: &Style, mut out: Output) -> Result<()> {
     out.finish()
 }
 
-/// Writes one PNG into a folder of frames, named by step.
+/// Writes one PNG into a folder of frames (planned by [`crate::output::Plans::folder`]), named
+/// by step.
 pub fn save_frame(world: &World, style: &Style, dir: &Path) -> Result<()> {
     let path = dir.join(format!("frame_{:08}.png", world.step));
-    save_png(world, style, Output::open(Some(&path))?)
+    save_png(world, style, Target::resolve(Some(&path))?.open()?)
 }

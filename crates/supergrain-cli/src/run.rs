@@ -15,7 +15,7 @@ use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::solver::NarrowPhase;
 use supergrain::world::{PRESETS, Scene, World};
 
-use crate::output::Output;
+use crate::output::{Folder, Output, Plans, Target};
 use crate::picture::{PictureArgs, save_frame, save_png};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -39,7 +39,7 @@ Examples:
   supergrain run examples/scenes/pour-1000.toml --until-rest --steps 20000 --svg pour.svg
 
 The presets are the paper's four scenes (Figs. 10-13): circles, ellipses, squircles, mixed.
-A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end. Ctrl-C stops after the current step and still writes\nevery output (exit code 130).")]
+A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end. Ctrl-C (or SIGTERM) stops within a second, even in the\nmiddle of a slow step, and still writes every output with the last whole step (exit code\n130); a second Ctrl-C quits at once.")]
 pub struct Args {
     /// A scene file (TOML; see examples/scenes/).
     #[arg(value_name = "SCENE.toml", conflicts_with_all = ["preset", "resume"])]
@@ -117,25 +117,54 @@ fn write_dump(mut out: Output, world: &World) -> Result<()> {
     out.finish()
 }
 
+/// The outputs that failed, each with its error: the run writes every other one, and ends in
+/// error naming each.
+#[derive(Default)]
+struct Failures(Vec<anyhow::Error>);
+
+impl Failures {
+    /// Keeps `result`'s error, if any; whether it succeeded.
+    fn keep(&mut self, result: Result<()>) -> bool {
+        match result {
+            Ok(()) => true,
+            Err(e) => {
+                self.0.push(e);
+                false
+            }
+        }
+    }
+}
+
 pub fn run(args: Args) -> Result<ExitCode> {
     let (mut world, default_steps) = load(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
 
-    // Every output is opened before any work, so a bad path costs nothing.
-    let dump = Output::optional(args.dump.as_deref())?;
-    let svg = Output::optional(args.svg.as_deref())?;
-    let mut trajectory = Output::optional(args.trajectory.as_deref())?;
+    // Every output is planned before any work, so a bad path, or two outputs on one path, costs
+    // nothing; the files written at the end are only opened then.
+    let mut plans = Plans::default();
+    let dump = plans.file("--dump", args.dump.as_deref())?;
+    let svg = plans.file("--svg", args.svg.as_deref())?;
+    let png = plans.file("--png", args.png.as_deref())?;
+    let trajectory_to = plans.file("--trajectory", args.trajectory.as_deref())?;
+    let gif_to = plans.file("--gif", args.gif.as_deref())?;
+    let vtk = args
+        .vtk
+        .as_deref()
+        .map(|dir| plans.folder("--vtk", dir))
+        .transpose()?;
+    let frames = args
+        .frames
+        .as_deref()
+        .map(|dir| plans.folder("--frames", dir))
+        .transpose()?;
+    let vtk = vtk.map(Folder::make).transpose()?;
+    let frames = frames.map(Folder::make).transpose()?;
+    // The streams are written as the run goes.
+    let mut trajectory = trajectory_to.as_ref().map(Target::open).transpose()?;
     if let Some(t) = trajectory.as_mut() {
         writeln!(t, "{TRAJECTORY_HEADER}")?;
     }
-    if let Some(dir) = &args.vtk {
-        prepare_dir(dir)?;
-    }
-    if let Some(dir) = &args.frames {
-        prepare_dir(dir)?;
-    }
-    let png = Output::optional(args.png.as_deref())?;
-    let mut gif_out = Output::optional(args.gif.as_deref())?;
+    let mut gif_out = gif_to.as_ref().map(Target::open).transpose()?;
     let mut gif = match gif_out.as_mut() {
         Some(out) => Some(GifWriter::new(out, args.fps, 10).context("cannot start the GIF")?),
         None => None,
@@ -156,35 +185,57 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let mut contacts = 0u64;
     let mut calm = 0u64;
     let mut done = 0u64;
-    let mut frame = |world: &World, trajectory: Option<&mut Output>| -> Result<()> {
-        write_frame(world, &args, trajectory)?;
-        if let Some(dir) = &args.frames {
-            save_frame(world, &style, dir)?;
+    // A stream that fails (its folder removed, a full disk) is dropped with its error; the run
+    // and the other outputs go on.
+    let mut failures = Failures::default();
+    let (mut vtk, mut frames) = (vtk, frames);
+    let mut frame = |world: &World, trajectory: &mut Option<Output>, failures: &mut Failures| {
+        if let Some(t) = trajectory.as_mut()
+            && !failures.keep(
+                write_trajectory_frame(world, t)
+                    .with_context(|| format!("--trajectory at step {}", world.step)),
+            )
+        {
+            *trajectory = None;
         }
-        if let Some(g) = gif.as_mut() {
-            g.push(&render_world(world, &style))
-                .context("cannot write the GIF")?;
+        if let Some(dir) = &vtk
+            && !failures.keep(write_vtk(world, dir))
+        {
+            vtk = None;
         }
-        Ok(())
+        if let Some(dir) = &frames
+            && !failures.keep(save_frame(world, &style, dir))
+        {
+            frames = None;
+        }
+        if let Some(g) = gif.as_mut()
+            && !failures.keep(
+                g.push(&render_world(world, &style))
+                    .with_context(|| format!("cannot write the GIF at step {}", world.step)),
+            )
+        {
+            gif = None;
+        }
     };
-    frame(&world, trajectory.as_mut())?;
+    frame(&world, &mut trajectory, &mut failures);
     let stop = stop_on_interrupt();
     let mut interrupted = false;
     for k in 1..=steps {
-        if stop.load(Ordering::SeqCst) {
+        // A stop request abandons the step under way: the world is then the last whole step's.
+        let Ok(stats) = world.step_or_stop(&stop) else {
             interrupted = true;
             break;
-        }
-        let stats = world.step();
+        };
         done = k;
         contacts += stats.contacts as u64;
         if k % args.every == 0 {
-            frame(&world, trajectory.as_mut())?;
+            frame(&world, &mut trajectory, &mut failures);
         }
-        if let (Some(every), Some(path)) = (args.checkpoint, args.dump.as_deref())
+        if let (Some(every), Some(target)) = (args.checkpoint, dump.as_ref())
             && k % every == 0
             && k < steps
-            && let Err(e) = Output::open_tagged(Some(path), Some("checkpoint"))
+            && let Err(e) = target
+                .open_tagged(Some("checkpoint"))
                 .and_then(|out| write_dump(out, &world))
         {
             // The run goes on: its final outputs may still be written.
@@ -221,27 +272,34 @@ pub fn run(args: Args) -> Result<ExitCode> {
         }
     }
     if (args.until_rest || interrupted) && done % args.every != 0 {
-        frame(&world, trajectory.as_mut())?;
+        frame(&world, &mut trajectory, &mut failures);
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
 
+    // Every output is written that can be, whatever happens to the others.
     if let Some(t) = trajectory {
-        t.finish()?;
+        failures.keep(t.finish());
     }
+    // A GIF that failed during the run is not renamed into place (dropped, its temporary goes).
+    let gif_whole = gif.is_some();
     drop(gif);
-    if let Some(g) = gif_out {
-        g.finish()?;
+    if let Some(g) = gif_out
+        && gif_whole
+    {
+        failures.keep(g.finish());
     }
-    if let Some(out) = png {
-        save_png(&world, &style, out)?;
+    if let Some(to) = png {
+        failures.keep(to.open().and_then(|out| save_png(&world, &style, out)));
     }
-    if let Some(mut picture) = svg {
-        picture.write_all(world_svg(&world, 800).as_bytes())?;
-        picture.finish()?;
+    if let Some(to) = svg {
+        failures.keep(to.open().and_then(|mut picture| {
+            picture.write_all(world_svg(&world, 800).as_bytes())?;
+            picture.finish()
+        }));
     }
-    if let Some(d) = dump {
-        write_dump(d, &world)?;
+    if let Some(to) = dump {
+        failures.keep(to.open().and_then(|out| write_dump(out, &world)));
     }
     if !args.quiet {
         eprintln!(
@@ -274,6 +332,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
             }
         }
     }
+    // Each failed output is named, the last in the error the command ends with.
+    let count = failures.0.len();
+    if let Some(last) = failures.0.pop() {
+        for e in &failures.0 {
+            eprintln!("error: {e:#}");
+        }
+        if count == 1 {
+            return Err(last);
+        }
+        return Err(last.context(format!("{count} outputs not written (every other one is)")));
+    }
     // The shell's code for a run stopped by SIGINT, so that scripts see it did not finish.
     Ok(if interrupted {
         ExitCode::from(130)
@@ -282,17 +351,22 @@ pub fn run(args: Args) -> Result<ExitCode> {
     })
 }
 
-/// A flag raised by Ctrl-C (or SIGTERM, SIGHUP): the run stops after the current step and
-/// writes its outputs, so hours of a long run are not lost. A second signal ends the process
-/// at once. Without a handler (one could not be installed) the flag simply never rises.
+/// A flag raised by Ctrl-C (or SIGTERM, SIGHUP): the step under way is abandoned at once (the
+/// world put back as it was before it, [`World::step_or_stop`]) and the run writes its outputs,
+/// so hours of a long run are not lost and a slow step does not keep `timeout` waiting. A
+/// second signal ends the process at once, removing the temporaries of unfinished outputs. Without a handler (one could not be installed) the flag simply never rises.
 fn stop_on_interrupt() -> Arc<AtomicBool> {
     let stop = Arc::new(AtomicBool::new(false));
     let raised = Arc::clone(&stop);
     let installed = ctrlc::set_handler(move || {
         if raised.swap(true, Ordering::SeqCst) {
+            // No destructor runs on exit: the temporaries go by hand.
+            crate::output::remove_temporaries();
             std::process::exit(130);
         }
-        eprintln!("\nstopping after this step (press Ctrl-C again to quit at once)");
+        eprintln!(
+            "\nstopping: the outputs will hold the last whole step (press Ctrl-C again to quit at once)"
+        );
     });
     if let Err(e) = installed {
         eprintln!("warning: Ctrl-C will end the run without writing its outputs ({e})");
@@ -371,27 +445,10 @@ fn check_analytic(world: &World) -> Result<()> {
     Ok(())
 }
 
-/// Creates the folder and checks it can be written, before any work.
-fn prepare_dir(dir: &Path) -> Result<()> {
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-    let probe = dir.join(".supergrain-write-test");
-    std::fs::write(&probe, b"")
-        .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
-    let _ = std::fs::remove_file(probe);
-    Ok(())
-}
-
-/// Writes one frame of the trajectory and of the VTK series.
-fn write_frame(world: &World, args: &Args, trajectory: Option<&mut Output>) -> Result<()> {
-    if let Some(t) = trajectory {
-        write_trajectory_frame(world, t)?;
-    }
-    if let Some(dir) = &args.vtk {
-        let path = dir.join(format!("frame_{:08}.vtk", world.step));
-        let mut out = Output::open(Some(&path))?;
-        write_vtk_frame(world, &mut out)?;
-        out.finish()?;
-    }
-    Ok(())
+/// Writes one frame of the VTK series into `dir`.
+fn write_vtk(world: &World, dir: &Path) -> Result<()> {
+    let path = dir.join(format!("frame_{:08}.vtk", world.step));
+    let mut out = Target::resolve(Some(&path))?.open()?;
+    write_vtk_frame(world, &mut out)?;
+    out.finish()
 }

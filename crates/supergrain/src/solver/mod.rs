@@ -22,6 +22,7 @@ use crate::shape::{HalfPlane, Pose, Superellipse};
 use crate::subdivision::Precision;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// A grain: its shape, where it is and where it was one step ago (Verlet keeps velocity
 /// implicit).
@@ -209,6 +210,12 @@ pub struct StepStats {
     pub tests: usize,
 }
 
+/// A step abandoned half-way because a stop was requested (see [`step_or_stop`]): the grains are
+/// then in no meaningful state, and the caller puts back those of the step's start.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("the step was abandoned: a stop was requested")]
+pub struct Stopped;
+
 /// The quadtree's precision for a pair: two levels deeper when a star is in it.
 fn pair_precision(settings: &Settings, a: &Body, b: &Body) -> Precision {
     let star = |b: &Body| b.shape.exponents().iter().any(|&e| e < 1.0);
@@ -328,12 +335,34 @@ pub fn step<B: BroadPhase>(
     work: &mut Workspace,
     number: u64,
 ) -> StepStats {
+    let never = AtomicBool::new(false);
+    match step_or_stop(bodies, walls, settings, broad, work, number, &never) {
+        Ok(stats) => stats,
+        Err(Stopped) => unreachable!("nothing raises a flag no one else sees"),
+    }
+}
+
+/// [`step`], abandoned within one contact test once `stop` is raised: a step of a scene whose
+/// tests are slow (a deep quadtree, many overlapping grains) can take minutes, and a stop
+/// request must not wait for it. Abandoned, it returns [`Stopped`] and leaves `bodies` half
+/// done: the caller restores them ([`crate::world::World::step_or_stop`] does). Not raised,
+/// the step is [`step`]'s, bit for bit: the flag is only read.
+pub fn step_or_stop<B: BroadPhase>(
+    bodies: &mut [Body],
+    walls: &Walls,
+    settings: &Settings,
+    broad: &mut B,
+    work: &mut Workspace,
+    number: u64,
+    stop: &AtomicBool,
+) -> Result<StepStats, Stopped> {
     let mut stats = StepStats::default();
     let half_planes = walls.half_planes();
     let ctx = Context {
         walls: &half_planes,
         wall_boxes: half_planes.map(|w| w.bounding_box()),
         settings,
+        stop,
     };
     work.start.clear();
     work.start.extend(bodies.iter().map(|b| b.center));
@@ -345,6 +374,9 @@ pub fn step<B: BroadPhase>(
     } else {
         rebuild_boxes(bodies, broad, work);
         for i in 0..bodies.len() {
+            if ctx.stopped() {
+                break;
+            }
             settle(i, bodies, &ctx, broad, work, &mut stats);
         }
         if settings.shock_propagation {
@@ -352,6 +384,9 @@ pub fn step<B: BroadPhase>(
             let mut rank = std::mem::take(&mut work.rank);
             shock_order(bodies, &mut order, &mut rank);
             for &i in &order {
+                if ctx.stopped() {
+                    break;
+                }
                 shock_grain(i, bodies, &ctx, broad, work, &mut stats, &rank);
             }
             work.order = order;
@@ -363,18 +398,24 @@ pub fn step<B: BroadPhase>(
             for _ in 0..CLOSING_SWEEPS {
                 let mut hit = 0;
                 for i in 0..bodies.len() {
+                    if ctx.stopped() {
+                        break;
+                    }
                     hit += sweep_grain(i, bodies, &ctx, broad, work, &mut stats);
                 }
-                if hit == 0 {
+                if hit == 0 || ctx.stopped() {
                     break;
                 }
             }
         }
     }
+    if ctx.stopped() {
+        return Err(Stopped);
+    }
     if settings.sleep_radius > 0.0 {
         update_sleep(bodies, settings, broad, work);
     }
-    stats
+    Ok(stats)
 }
 
 /// Every grain's box, and the broad phase filed with them.
@@ -416,6 +457,9 @@ fn settle<B: BroadPhase>(
     verlet(&mut bodies[i], ctx.settings);
     work.moved(i, &bodies[i], broad);
     for pass in 0..ctx.settings.max_iterations {
+        if ctx.stopped() {
+            return;
+        }
         let hit = resolve(i, bodies, ctx, broad, work, stats, None);
         if pass == 0 {
             stats.contacts += hit;
@@ -554,6 +598,17 @@ struct Context<'a> {
     /// phase would find the same from the same box, after computing it again).
     wall_boxes: [Aabb; 3],
     settings: &'a Settings,
+    /// Raised when the step is to be abandoned ([`step_or_stop`]).
+    stop: &'a AtomicBool,
+}
+
+impl Context<'_> {
+    /// Whether a stop was requested: read before every contact test, so a step of slow tests
+    /// ends within one of them. A relaxed load, as cheap as a plain one: it orders nothing, the
+    /// abandoned work is thrown away.
+    fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
 }
 
 /// The shock sweep's order, lowest centre first (ties by index), and each grain's rank in it.
@@ -603,7 +658,7 @@ fn shock_grain<B: BroadPhase>(
     }
     let before = bodies[i].center;
     for _ in 0..ctx.settings.max_iterations {
-        if resolve(i, bodies, ctx, broad, work, stats, Some(rank)) == 0 {
+        if ctx.stopped() || resolve(i, bodies, ctx, broad, work, stats, Some(rank)) == 0 {
             break;
         }
     }
@@ -640,6 +695,9 @@ fn resolve<B: BroadPhase>(
     let settings = ctx.settings;
     let mut hit = 0usize;
     for (wall, wall_box) in ctx.walls.iter().zip(&ctx.wall_boxes) {
+        if ctx.stopped() {
+            return hit;
+        }
         if !work.boxes[i].intersects(wall_box) {
             continue;
         }
@@ -658,6 +716,9 @@ fn resolve<B: BroadPhase>(
         let j = work.candidates[k];
         if !work.boxes[i].intersects(&work.boxes[j]) {
             continue;
+        }
+        if ctx.stopped() {
+            return hit;
         }
         let sleeper = bodies[j].asleep(settings);
         if rank.is_some_and(|r| r[j] > r[i]) && !sleeper {

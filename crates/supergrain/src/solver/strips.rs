@@ -218,6 +218,9 @@ impl Local {
         };
         let mut hit = 0;
         for &i in &self.own {
+            if ctx.stopped() {
+                break;
+            }
             match turn {
                 Turn::Settle => settle(i, &mut self.bodies, ctx, &mut broad, &mut work, &mut stats),
                 Turn::Sweep => {
