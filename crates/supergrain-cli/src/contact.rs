@@ -23,7 +23,11 @@ Output, one JSON line per pair:
    \"b_push\": ..., \"cells\": n}
 a_deepest is the point of A most interior to B; a_push moves it along grad f_B to B's boundary.
 `overlap` is certified: true only if a point was proven inside both shapes by interval
-arithmetic. false means apart, or within one final quadtree cell of touching.
+arithmetic. false means touching within tolerance at most: no point of one shape lies more
+than the tolerance inside the other, a distance of half a final cell when Newton answered
+(cells: 0) and four final cells from the quadtree (a final cell: the longest side of the
+pair's box intersection over 2^depth). The pushes point apart along one normal.
+Exponents must lie in [0.25, 1000] and semi-axes in [1e-9, 1e9].
 Convex pairs (every exponent >= 1) are answered by Newton's method with a proof: the deepest
 points are proven inside both shapes and deepest up to half a final cell, or the shapes are
 proven apart; `cells` is then 0. Without a proof, and for stars, the quadtree answers and

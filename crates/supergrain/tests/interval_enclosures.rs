@@ -751,24 +751,27 @@ fn precision_validates_and_sizes_cells() {
     );
 }
 
-/// A semi-axis so small that its reciprocal overflows (a subnormal): a point's enclosure is
-/// still a number that holds `f`, at the centre (`f = -1`) and beside it, never NaN (a NaN
-/// upper end would fail `hi < 0` but pass a test written `hi >= 0` the other way round).
+/// A semi-axis so small that its reciprocal overflows (a subnormal) gave enclosures that had
+/// to guard against NaN; such shapes, and every size or exponent outside the accepted ranges,
+/// are now refused when built, with the field named.
 #[test]
-fn point_enclosure_of_a_subnormal_semi_axis_is_never_nan() {
+fn shapes_outside_the_accepted_ranges_are_refused_naming_the_field() {
+    use supergrain::shape::{EXPONENT_RANGE, SEMI_AXIS_RANGE};
     let tiny = f64::MIN_POSITIVE / 8.0;
-    let placed = PlacedSuperellipse::new(
-        Superellipse::new([tiny, 1.0], [2.0, 2.0]).unwrap(),
-        Pose::new(Vec2::new(0.5, -0.25), 0.0).unwrap(),
-    );
-    let at_centre = placed.enclose_point(Vec2::new(0.5, -0.25));
-    assert!(
-        at_centre.lo <= -1.0 && -1.0 <= at_centre.hi,
-        "{at_centre:?} misses -1 at the centre"
-    );
-    let beside = placed.enclose_point(Vec2::new(0.5 + 1e-300, -0.25));
-    assert!(
-        !beside.lo.is_nan() && !beside.hi.is_nan() && beside.hi > 0.0,
-        "{beside:?}: a point 1e-300 beside a semi-axis of {tiny:e} is far outside"
-    );
+    for (axes, exps, field) in [
+        ([tiny, 1.0], [2.0, 2.0], "semi-axis x"),
+        ([1.0, 1e160], [2.0, 2.0], "semi-axis y"),
+        ([1.0, 1.0], [0.2, 2.0], "exponent x"),
+        ([1.0, 1.0], [2.0, 1001.0], "exponent y"),
+        ([1.0, 1.0], [2.0, f64::NAN], "exponent y"),
+    ] {
+        let err = Superellipse::new(axes, exps).unwrap_err().to_string();
+        assert!(err.contains(field), "{axes:?} {exps:?}: {err}");
+    }
+    // The ends themselves are accepted.
+    for e in [*EXPONENT_RANGE.start(), *EXPONENT_RANGE.end()] {
+        for s in [*SEMI_AXIS_RANGE.start(), *SEMI_AXIS_RANGE.end()] {
+            Superellipse::new([s, s], [e, e]).unwrap();
+        }
+    }
 }

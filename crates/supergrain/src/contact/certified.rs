@@ -93,11 +93,10 @@ pub(crate) fn certified_contact(
     let start = last.and_then(|w| w.a2).unwrap_or(a1_in_b);
     let a2 = match deepest(&b_local, &a_in_b, cell, Some(start))? {
         (Deepest::At(a2), _) => a2,
-        // No point of B is deeper in A than the touching tolerance, yet A1 is proven inside
-        // both: an overlap within rounding of touching (resting grains). A1 is then as deep in
-        // A as B's deepest point up to that tolerance (`f_A(A1) <= 0`, and `f_A >= -touch` on
-        // B, where `touch = cell e_min / (2 R)` is at most half a cell times `|grad f_A|` near
-        // A's boundary, by Euler's identity), so it serves as A2.
+        // No point of B is deeper in A than half a final cell ([`touch_level`]), yet A1 is
+        // proven inside both: an overlap within rounding of touching (resting grains). A1 is
+        // in both, so it is as deep in A as B's deepest point up to that distance, and serves
+        // as A2.
         (Deepest::Beyond, _) => a1_in_b,
     };
     *warm = Some(WarmStart { a1, a2: Some(a2) });
@@ -171,17 +170,30 @@ fn deepest(
     if f_other.hi < 0.0 && f_own.hi < 0.0 {
         return proves_above(plane, other, rel, f_other.hi - tau).then_some((Deepest::At(x), x));
     }
-    // No overlap to report: a proof that no point of own is deeper in other than `touch`.
-    // Euler's identity for the homogeneous `h = f + 1` gives, for `y` in other with
-    // `f(y) >= -touch`, `f(t y) + 1 >= t^e_min (1 - touch)`: `y` scaled by
-    // `t = (1 - touch)^(-1/e_min) ~ 1 + touch / e_min` about other's centre is outside, a
-    // distance at most `touch R / e_min` away (`R` other's bounding radius). With
-    // `touch = cell e_min / (2 R)` that is half a final cell: the quadtree's meaning of "no
-    // overlap" (within a cell of touching), in distance, on any shape. Resting grains touch to
-    // within rounding, and this keeps them off the quadtree.
+    // No overlap to report: a proof that no point of own is deeper in other than half a
+    // final cell. Resting grains touch to within rounding, and this keeps them off the quadtree.
+    proves_above(plane, other, rel, -touch_level(other, cell)).then_some((Deepest::Beyond, x))
+}
+
+/// The level `-touch` of `f_other` above which a point of `other` is within half a final cell
+/// (`cell / 2`, a distance) of its boundary, on any shape: "touching" in the quadtree's sense.
+///
+/// Euler's identity for the homogeneous `h = f + 1` gives, for `y` in other with
+/// `f(y) >= -touch` and `t >= 1`, `h(t y) >= t^e_min (1 - touch)`: `y` scaled by
+/// `t = (1 - touch)^(-1/e_min)` about other's centre is outside, a distance at most `(t - 1) R`
+/// away (`R` other's bounding radius). That is `cell / 2` for
+/// `touch = 1 - (1 + cell / (2 R))^(-e_min)`, computed here without cancellation and shrunk by
+/// a relative `1e-9` over its few ulps of rounding (a smaller `touch` claims less).
+///
+/// Its first order, `cell e_min / (2 R)`, was used before: for blocky shapes (`e_min` in the
+/// hundreds) it exceeds 1, a level every point of `other` is above, so two shapes a tenth of
+/// their size deep in each other were "proven" apart (`supergrain contact --a
+/// 0,0,0.183,0.387,0.423,400,400 --b 0.86,-0.44,2.933,0.439,0.483,400,400`).
+fn touch_level(other: &Superellipse, cell: f64) -> f64 {
     let e_min = other.exponents()[0].min(other.exponents()[1]);
-    let touch = 0.5 * cell * e_min / other.bounding_radius();
-    proves_above(plane, other, rel, -touch).then_some((Deepest::Beyond, x))
+    let x = 0.5 * cell / other.bounding_radius();
+    let touch = -(-e_min * x.ln_1p()).exp_m1();
+    touch * (1.0 - 1e-9)
 }
 
 /// `|v|` by a square root: `hypot`, which guards against overflow these magnitudes never

@@ -6,7 +6,9 @@
 
 mod certified;
 mod disk_disk;
+mod push;
 mod ray;
+mod spikes;
 mod superellipse_superellipse;
 mod superellipse_wall;
 
@@ -21,8 +23,9 @@ use crate::geometry::Vec2;
 /// What two shapes do to each other.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Contact {
-    /// `None`: no point was proven inside both shapes (they are apart, or within one final cell
-    /// of touching).
+    /// `None`: no point was proven inside both shapes, and no point of one lies deeper in the
+    /// other than the tolerance: half a final cell when the certified path answered (`cells`
+    /// 0), four final cells from the quadtree (see `contact/spikes.rs`).
     pub penetration: Option<Penetration>,
     /// Quadtree cells classified to reach the answer.
     pub cells: u32,

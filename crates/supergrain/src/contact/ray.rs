@@ -29,6 +29,21 @@ pub(crate) fn push_out(other: &PlacedSuperellipse, from: Vec2) -> Vec2 {
     exit - from
 }
 
+/// From a point inside `other` along the unit direction `way` to its boundary (for a star, the
+/// first crossing the bracketed search finds): a push along a chosen normal
+/// ([`super::push::separating`]).
+pub(crate) fn exit_along(other: &PlacedSuperellipse, from: Vec2, way: Vec2) -> Vec2 {
+    let centre = other.pose().center();
+    let t_far = ((from - centre).norm() + other.shape().bounding_radius()) * (1.0 + 1e-9)
+        + f64::MIN_POSITIVE;
+    let exit = if super::certified::convex(other.shape()) {
+        ray_to_convex_boundary(other, from, way, t_far)
+    } else {
+        ray_to_boundary(other, from, way, t_far)
+    };
+    exit - from
+}
+
 /// [`push_out`] of an ellipse (circles too) in closed form: along any ray its `f` is a quadratic
 /// in the distance, `a t^2 + b t + f(from)`, with `b = |grad f| > 0` along the gradient, whose
 /// positive root is `2 (-f) / (b + sqrt(b^2 - 4 a f))` (no cancellation: `f < 0`). `None` at the

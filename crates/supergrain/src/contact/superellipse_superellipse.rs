@@ -1,10 +1,12 @@
 use super::certified::{self, Certified, WarmStart};
+use super::push::separating;
 use super::ray::push_out;
+use super::spikes::spike_witness;
 use super::{Contact, Penetration};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{Pose, Superellipse};
-use crate::subdivision::{CellSink, Precision, deepest_points};
+use crate::subdivision::{CellSink, Deepest, Precision, deepest_points};
 
 /// The contact of two placed superellipses (paper II, III-A).
 ///
@@ -65,15 +67,36 @@ pub fn contact_warm(
             a2,
             a_push,
             b_push,
-        }) => Contact {
-            penetration: Some(Penetration {
-                a_deepest: pose_a.to_world(a1),
-                b_deepest: pose_b.to_world(a2),
-                a_push: pose_a.vector_to_world(a_push),
-                b_push: pose_b.vector_to_world(b_push),
-            }),
-            cells: 0,
-        },
+        }) => {
+            // A2 and its push come in B's frame: in A's, to check that they separate.
+            let rel = local_b.pose();
+            let (a_push, b_push) = match separating(
+                &local_a,
+                &local_b,
+                a1,
+                rel.to_world(a2),
+                a_push,
+                rel.vector_to_world(b_push),
+            ) {
+                Some((a_push, b_push)) => (
+                    pose_a.vector_to_world(a_push),
+                    pose_a.vector_to_world(b_push),
+                ),
+                None => (
+                    pose_a.vector_to_world(a_push),
+                    pose_b.vector_to_world(b_push),
+                ),
+            };
+            Contact {
+                penetration: Some(Penetration {
+                    a_deepest: pose_a.to_world(a1),
+                    b_deepest: pose_b.to_world(a2),
+                    a_push,
+                    b_push,
+                }),
+                cells: 0,
+            }
+        }
         None => quadtree(pose_a, &local_a, &local_b, &region, precision, &mut ()),
     }
 }
@@ -144,12 +167,34 @@ fn quadtree<S: CellSink + ?Sized>(
     sink: &mut S,
 ) -> Contact {
     let found = deepest_points(local_a, local_b, region, precision, true, sink);
-    let penetration = match (found.in_a, found.in_b) {
+    let (mut in_a, mut in_b) = (found.in_a, found.in_b);
+    // Spikes thinner than a cell are searched along the half-axes ([`super::spikes`]): always
+    // for stars (whose deepest points lie in their spikes), and for any shape when the
+    // midpoints proved nothing, which makes "no overlap" mean within a few final cells of
+    // touching for every shape (`spikes` module docs: four, at most).
+    // A few ulps of the world coordinates the points are reported in: a point moved by the
+    // searches is proven inside over a box this wide about it ([`spike_witness`]).
+    let scale = pose_a.center().norm() + region.min.norm().max(region.max.norm());
+    let slack = 8.0 * f64::EPSILON * scale;
+    if in_a.is_none() || in_b.is_none() {
+        let cell = precision.cell_size(region);
+        in_a = deeper(in_a, spike_witness(local_a, local_b, region, cell, slack));
+        in_b = deeper(in_b, spike_witness(local_b, local_a, region, cell, slack));
+    }
+    // A point proven inside both is a point of either shape in the other: it stands in for a
+    // deepest point the searches did not find.
+    let (in_a, in_b) = match (in_a, in_b) {
+        (Some(a1), None) => (Some(a1.point), Some(a1.point)),
+        (None, Some(a2)) => (Some(a2.point), Some(a2.point)),
+        (a1, a2) => (a1.map(|d| d.point), a2.map(|d| d.point)),
+    };
+    let penetration = match (in_a, in_b) {
         (Some(a1), Some(a2)) => {
-            let a1 = polish(local_a, local_b, a1.point);
-            let a2 = polish(local_b, local_a, a2.point);
-            let a_push = push_out(local_b, a1);
-            let b_push = push_out(local_a, a2);
+            let a1 = polish(local_a, local_b, a1, slack);
+            let a2 = polish(local_b, local_a, a2, slack);
+            let (a_push, b_push) = (push_out(local_b, a1), push_out(local_a, a2));
+            let (a_push, b_push) =
+                separating(local_a, local_b, a1, a2, a_push, b_push).unwrap_or((a_push, b_push));
             Some(Penetration {
                 a_deepest: pose_a.to_world(a1),
                 b_deepest: pose_a.to_world(a2),
@@ -165,12 +210,25 @@ fn quadtree<S: CellSink + ?Sized>(
     }
 }
 
+/// The deeper of two candidates for a deepest point (the smaller bound of the other's `f`).
+fn deeper(a: Option<Deepest>, b: Option<Deepest>) -> Option<Deepest> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(if b.other_value < a.other_value { b } else { a }),
+        (a, b) => a.or(b),
+    }
+}
+
 /// Unless `own` holds `other`'s centre, the deepest point of `own` in `other` lies on `own`'s
 /// boundary (`f_other` grows along every ray from `other`'s centre, see
 /// [`crate::subdivision`]), while the quadtree's is a cell midpoint up to half a cell inside. Moving it along `grad f_own` to the boundary removes that
 /// error from the penetration estimate, which otherwise makes resting grains jitter by about a
 /// cell per step. Kept only when the moved point is still proven inside `other`, and deeper.
-fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2) -> Vec2 {
+///
+/// `slack`: the moved point is proven inside over a box of that half-width about it, so that
+/// it stays inside in world coordinates (a point moved to a star's spike tip, `1e-9` short
+/// of it, came out `3e-9` outside after rounding to world coordinates, as for the half-axis
+/// witnesses).
+fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2, slack: f64) -> Vec2 {
     if own.enclose_point(other.pose().center()).lo <= 0.0 {
         // `own` may hold `other`'s centre, which is then the deepest point: not on the boundary.
         return point;
@@ -180,8 +238,12 @@ fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2) -> 
     let inside = point + (on_boundary - point) * (1.0 - 1e-9);
     // And only when it is at least as deep: on a thin shape the gradient may lead to the far
     // side, away from `other`'s centre.
-    if own.enclose_point(inside).hi < 0.0
-        && other.enclose_point(inside).hi < 0.0
+    let around = Aabb::new(
+        inside - Vec2::new(slack, slack),
+        inside + Vec2::new(slack, slack),
+    );
+    if own.enclose(&around).hi < 0.0
+        && other.enclose(&around).hi < 0.0
         && other.value(inside) <= other.value(point)
     {
         inside

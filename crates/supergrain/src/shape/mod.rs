@@ -9,7 +9,7 @@ mod superellipse;
 
 pub use half_plane::HalfPlane;
 pub use pose::Pose;
-pub use superellipse::Superellipse;
+pub use superellipse::{EXPONENT_RANGE, SEMI_AXIS_RANGE, Superellipse};
 pub(crate) use superellipse::{abs_pow, support};
 
 /// Why a shape, pose or wall could not be built.
@@ -19,6 +19,13 @@ pub enum ShapeError {
     NotPositive { name: &'static str, value: f64 },
     #[error("{name} must be a finite number, got {value}")]
     NotFinite { name: &'static str, value: f64 },
+    #[error("{name} must be between {lo} and {hi}, got {value}")]
+    OutOfRange {
+        name: &'static str,
+        value: f64,
+        lo: f64,
+        hi: f64,
+    },
     #[error("{name} must be a non-zero finite vector, got ({x}, {y})")]
     BadDirection { name: &'static str, x: f64, y: f64 },
 }
@@ -36,5 +43,23 @@ pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<f64, ShapeE
         Ok(value)
     } else {
         Err(ShapeError::NotFinite { name, value })
+    }
+}
+
+/// `value` within `[lo, hi]` (`range`), or an error naming it.
+pub(crate) fn check_range(
+    name: &'static str,
+    value: f64,
+    range: std::ops::RangeInclusive<f64>,
+) -> Result<f64, ShapeError> {
+    if range.contains(&value) {
+        Ok(value)
+    } else {
+        Err(ShapeError::OutOfRange {
+            name,
+            value,
+            lo: *range.start(),
+            hi: *range.end(),
+        })
     }
 }

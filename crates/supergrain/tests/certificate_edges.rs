@@ -1,0 +1,345 @@
+//! The narrow phase's decisions at the edges of the accepted exponent range (issue 17): very
+//! blocky shapes (exponents up to 100), exponents near 1, thin and very unequal shapes, against
+//! every class and in both orders, checked against dense boundary sampling that shares no code
+//! with the narrow phase (`common`).
+//!
+//! The meaning checked is the documented one, in distance:
+//! - `overlap: true`: the reported deepest points lie inside both shapes.
+//! - `overlap: false`: no point of one shape lies more than the tolerance inside the other,
+//!   the tolerance being a final quadtree cell's diagonal (bounded by [`cell_diagonal_bound`]).
+
+mod common;
+
+use std::collections::HashMap;
+use std::f64::consts::TAU;
+
+use common::*;
+use supergrain::contact::{Contact, contact, contact_quadtree};
+use supergrain::subdivision::Precision;
+
+const DEPTH: u32 = 7;
+/// Shape classes paired (all, in every combination).
+const KINDS: usize = 9;
+
+/// Shape classes at the range's edges (and the common ones, to pair them with).
+fn edge_shape(rng: &mut Rng, kind: usize) -> Shape {
+    let angle = rng.range(0.0, TAU);
+    let (s, e) = match kind {
+        // Very blocky: near the top of the range.
+        0 => {
+            let e = rng.range(50.0, 100.0);
+            ([rng.range(0.2, 0.5), rng.range(0.2, 0.5)], [e, e])
+        }
+        1 => (
+            [rng.range(0.2, 0.5), rng.range(0.2, 0.5)],
+            [100.0, rng.range(20.0, 100.0)],
+        ),
+        // Just above 1 (nearly a diamond) and exactly 1.
+        2 => {
+            let e = if rng.below(2) == 0 {
+                1.0
+            } else {
+                rng.range(1.0, 1.05)
+            };
+            ([rng.range(0.2, 0.5), rng.range(0.2, 0.5)], [e, e])
+        }
+        // Thin: an aspect ratio of 20.
+        3 => {
+            let l = rng.range(0.3, 0.6);
+            (
+                [l, l / 20.0],
+                [rng.range(1.0, 100.0), rng.range(1.0, 100.0)],
+            )
+        }
+        // Disks and ellipses.
+        4 => {
+            let r = rng.range(0.2, 0.5);
+            ([r, rng.range(0.5, 1.0) * r], [2.0, 2.0])
+        }
+        // The top of the range.
+        5 => {
+            let e = rng.range(100.0, 1000.0);
+            ([rng.range(0.2, 0.5), rng.range(0.2, 0.5)], [e, e])
+        }
+        // Unequal exponents in the convex range.
+        6 => (
+            [rng.range(0.2, 0.5), rng.range(0.2, 0.5)],
+            [rng.range(1.0, 100.0), rng.range(1.0, 100.0)],
+        ),
+        // Stars: the bottom of the range, and the common ones.
+        7 => {
+            let e = rng.range(0.25, 0.4);
+            (
+                [rng.range(0.2, 0.5), rng.range(0.2, 0.5)],
+                [e, rng.range(0.25, 0.4)],
+            )
+        }
+        8 => (
+            [rng.range(0.2, 0.5), rng.range(0.2, 0.5)],
+            [rng.range(0.4, 1.0), rng.range(0.4, 1.0)],
+        ),
+        _ => unreachable!("{KINDS} kinds"),
+    };
+    Shape {
+        c: [0.0, 0.0],
+        angle,
+        s,
+        e,
+    }
+}
+
+/// Boundary samples bucketed in a grid of side `g`, to find the nearest quickly.
+#[derive(Clone)]
+struct Grid {
+    g: f64,
+    cells: HashMap<(i64, i64), Vec<[f64; 2]>>,
+}
+
+impl Grid {
+    fn new(samples: &[[f64; 2]], g: f64) -> Self {
+        let mut cells: HashMap<(i64, i64), Vec<[f64; 2]>> = HashMap::new();
+        for &p in samples {
+            cells.entry(Self::key(p, g)).or_default().push(p);
+        }
+        Grid { g, cells }
+    }
+
+    fn key(p: [f64; 2], g: f64) -> (i64, i64) {
+        ((p[0] / g).floor() as i64, (p[1] / g).floor() as i64)
+    }
+
+    /// The distance from `p` to the nearest sample, or `cap` if none is nearer.
+    fn nearest(&self, p: [f64; 2], cap: f64) -> f64 {
+        let (i, j) = Self::key(p, self.g);
+        let k = (cap / self.g).ceil() as i64 + 1;
+        let mut best = cap;
+        if (2 * k + 1).pow(2) as usize > self.cells.len() {
+            // A search wider than the grid: every sample.
+            for v in self.cells.values() {
+                for &q in v {
+                    best = best.min(dist(p, q));
+                }
+            }
+            return best;
+        }
+        for di in -k..=k {
+            for dj in -k..=k {
+                if let Some(v) = self.cells.get(&(i + di, j + dj)) {
+                    for &q in v {
+                        best = best.min(dist(p, q));
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// How deep `own` reaches into `other`, from below: the largest distance from a sample of
+/// `own` (its boundary, and its centre) inside `other` to `other`'s boundary samples, less
+/// their spacing `h` (the true boundary is within `h` of a sample). At most `cap`.
+fn depth_into(
+    own: &Shape,
+    own_samples: &[[f64; 2]],
+    other: &Shape,
+    grid: &Grid,
+    h: f64,
+    cap: f64,
+) -> f64 {
+    own_samples
+        .iter()
+        .chain(std::iter::once(&own.c))
+        .copied()
+        .filter(|&p| other.f(p) < 0.0)
+        .map(|p| grid.nearest(p, cap + h) - h)
+        .fold(0.0, f64::max)
+}
+
+/// The final quadtree cell of the pair at depth [`DEPTH`], computed apart from the library:
+/// the longest side of the intersection of A's box (in A's frame) and B's box seen from A's
+/// frame, over `2^DEPTH`.
+fn final_cell(a: &Shape, b: &Shape) -> f64 {
+    // The support of `s` along the unit local direction `d` (Hölder, the larger exponent).
+    let support = |s: &Shape, d: [f64; 2]| {
+        let e = s.e[0].max(s.e[1]);
+        let (x, y) = ((d[0] * s.s[0]).abs(), (d[1] * s.s[1]).abs());
+        if e <= 1.0 {
+            x.max(y)
+        } else {
+            let q = e / (e - 1.0);
+            let m = x.max(y);
+            if m == 0.0 {
+                0.0
+            } else {
+                m * (1.0 + (x.min(y) / m).powf(q)).powf(1.0 / q)
+            }
+        }
+    };
+    let (sn, cs) = (b.angle - a.angle).sin_cos();
+    // A's axes in B's frame.
+    let (ax, ay) = ([cs, -sn], [sn, cs]);
+    let (sa, ca) = a.angle.sin_cos();
+    let d = [b.c[0] - a.c[0], b.c[1] - a.c[1]];
+    let centre = [ca * d[0] + sa * d[1], -sa * d[0] + ca * d[1]];
+    let (hx, hy) = (support(b, ax), support(b, ay));
+    let w = (a.s[0].min(centre[0] + hx) - (-a.s[0]).max(centre[0] - hx)).max(0.0);
+    let t = (a.s[1].min(centre[1] + hy) - (-a.s[1]).max(centre[1] - hy)).max(0.0);
+    w.max(t) / f64::from(1u32 << DEPTH)
+}
+
+/// One shape's boundary samples, spaced `h`, and their grid.
+struct Samples {
+    points: Vec<[f64; 2]>,
+    grid: Grid,
+    h: f64,
+}
+
+impl Samples {
+    /// Only the samples within `reach` of `near` are kept: the rest cannot be in the other
+    /// shape, nor nearest to a point of it.
+    fn new(s: &Shape, h: f64, near: [f64; 2], reach: f64) -> Self {
+        let points: Vec<_> = s
+            .dense_boundary(h)
+            .into_iter()
+            .filter(|&p| dist(p, near) <= reach)
+            .collect();
+        Samples {
+            grid: Grid::new(&points, 4.0 * h),
+            points,
+            h,
+        }
+    }
+}
+
+/// How far the quadtree's "no overlap" may be from touching, in final cells: the deepest
+/// point of a reach into the other shape need not be a midpoint (a blocky corner poking into
+/// a face holds a cell's midpoint only once it is about two cells deep).
+const QUADTREE_CELLS: f64 = 2.0;
+
+/// Checks one answer; `Some(depth / cell)` for an answer of "no overlap".
+fn check(
+    (a, sa): (&Shape, &Samples),
+    (b, sb): (&Shape, &Samples),
+    c: &Contact,
+    what: &str,
+) -> Option<f64> {
+    let cell = final_cell(a, b);
+    match c.penetration {
+        Some(p) => {
+            for (name, q) in [("A1", p.a_deepest), ("A2", p.b_deepest)] {
+                let q = q.to_array();
+                assert!(
+                    a.inside_up_to(q, 1e-12) && b.inside_up_to(q, 1e-12),
+                    "{what}: {name} {q:?} is not inside both (f_A = {}, f_B = {})",
+                    a.f(q),
+                    b.f(q)
+                );
+            }
+            None
+        }
+        None => {
+            // The certified path proves half a final cell; the quadtree, a few cells.
+            let allowed = if c.cells == 0 { 0.5 } else { QUADTREE_CELLS } * cell;
+            let cap = 1.5 * allowed;
+            let h = sa.h;
+            let deep = depth_into(a, &sa.points, b, &sb.grid, h, cap)
+                .max(depth_into(b, &sb.points, a, &sa.grid, h, cap));
+            assert!(
+                deep <= allowed,
+                "{what}: reported apart ({} cells), but a point is {deep:.3e} inside the other, more \
+                 than {allowed:.3e}",
+                c.cells
+            );
+            Some(deep / cell)
+        }
+    }
+}
+
+/// Near-touching pairs: B placed along a random direction at the sampled touching distance,
+/// moved by up to a few final cells either way.
+#[test]
+fn blocky_thin_and_unequal_pairs_are_never_decided_wrong() {
+    let precision = Precision::new(DEPTH, 0.0).unwrap();
+    let mut rng = Rng::new(17);
+    let kinds = KINDS;
+    let (mut overlaps, mut apart) = (0u32, 0u32);
+    let (mut worst_certified, mut worst_quadtree) = (0.0f64, 0.0f64);
+    let pairs = std::env::var("EDGE_PAIRS").map_or(900, |v| v.parse().unwrap());
+    for i in 0..pairs {
+        let a = edge_shape(&mut rng, i % kinds);
+        let mut b = edge_shape(&mut rng, (i / kinds) % kinds);
+        if i % 11 == 0 {
+            // Very unequal sizes (a ratio of 10).
+            b.s = [b.s[0] / 10.0, b.s[1] / 10.0];
+        }
+        let dir = rng.range(0.0, TAU);
+        let place = |b: &mut Shape, t: f64| b.c = [t * dir.cos(), t * dir.sin()];
+        // A first guess of the scale, for the touching search.
+        let rough = cell_diagonal_bound(&a, &b, DEPTH);
+        let (mut lo, mut hi) = (0.0, a.s[0].hypot(a.s[1]) + b.s[0].hypot(b.s[1]));
+        let coarse = a.dense_boundary(rough);
+        for _ in 0..24 {
+            let mid = 0.5 * (lo + hi);
+            place(&mut b, mid);
+            if sampled_overlap(&a, &coarse, &b, &b.dense_boundary(rough)) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        place(&mut b, lo);
+        let cell = final_cell(&a, &b).min(final_cell(&b, &a)).max(1e-3 * rough);
+        // From four cells deep to one apart.
+        place(&mut b, lo + rng.range(-4.0, 1.0) * cell);
+        let h = cell / 8.0;
+        let reach = |s: &Shape| 1.01 * s.s[0].hypot(s.s[1]) + 4.0 * cell;
+        let (sa, sb) = (
+            Samples::new(&a, h, b.c, reach(&b)),
+            Samples::new(&b, h, a.c, reach(&a)),
+        );
+        let (la, pa) = to_lib(&a);
+        let (lb, pb) = to_lib(&b);
+        let orders = [
+            ("A, B", contact(&la, &pa, &lb, &pb, &precision), false),
+            ("B, A", contact(&lb, &pb, &la, &pa, &precision), true),
+            (
+                "quadtree A, B",
+                contact_quadtree(&la, &pa, &lb, &pb, &precision),
+                false,
+            ),
+            (
+                "quadtree B, A",
+                contact_quadtree(&lb, &pb, &la, &pa, &precision),
+                true,
+            ),
+        ];
+        for (order, c, swapped) in orders {
+            let what = format!("pair {i} ({order}): {a:?} {b:?}");
+            let found = if swapped {
+                check((&b, &sb), (&a, &sa), &c, &what)
+            } else {
+                check((&a, &sa), (&b, &sb), &c, &what)
+            };
+            match found {
+                None => overlaps += 1,
+                Some(ratio) => {
+                    apart += 1;
+                    if c.cells == 0 {
+                        worst_certified = worst_certified.max(ratio);
+                    } else {
+                        worst_quadtree = worst_quadtree.max(ratio);
+                    }
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{overlaps} overlaps, {apart} apart; deepest reach reported apart: {worst_certified:.2} \
+         cells (certified), {worst_quadtree:.2} (quadtree)"
+    );
+    // Both answers are exercised.
+    assert!(
+        overlaps > pairs as u32 && apart > pairs as u32 / 2,
+        "{overlaps} {apart}"
+    );
+}
