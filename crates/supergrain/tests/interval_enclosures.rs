@@ -703,7 +703,7 @@ fn half_plane_enclosure_contains_sampled_values() {
 
 #[test]
 fn precision_validates_and_sizes_cells() {
-    for depth in 0..=40 {
+    for depth in 0..=supergrain::subdivision::MAX_DEPTH {
         assert!(Precision::new(depth, 0.0).is_ok(), "depth {depth}");
     }
     for depth in [41, 64, 1000, u32::MAX] {
@@ -722,7 +722,7 @@ fn precision_validates_and_sizes_cells() {
 
     let mut rng = Rng::new(37);
     for _ in 0..2000 {
-        let depth = rng.below(41) as u32;
+        let depth = rng.below(u64::from(supergrain::subdivision::MAX_DEPTH) + 1) as u32;
         let eps = match rng.below(3) {
             0 => 0.0,
             1 => 10f64.powf(rng.range(-12.0, 0.0)),
