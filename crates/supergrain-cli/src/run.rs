@@ -13,6 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use supergrain::io::{Dump, GifWriter, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
 use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::solver::NarrowPhase;
+use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Scene, World};
 
 use crate::output::Output;
@@ -191,8 +192,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
         {
             let c = world.bodies[i].center;
             eprintln!(
-                "warning: grain {i} left the box at step {} (centre at ({:.3}, {:.3}))",
-                world.step, c.x, c.y
+                "warning: grain {i} left the box at step {} (centre at ({}, {}))",
+                world.step,
+                short(c.x),
+                short(c.y)
             );
             escaped = Some((i, world.step));
         }

@@ -373,6 +373,7 @@ impl Dump {
             right: w.right,
             floor: w.floor,
         };
+        checks::check_box(&walls, top).map_err(DumpError::Walls)?;
         checks::check_sleep(&settings).map_err(DumpError::Unworkable)?;
         for (index, p) in pending.iter().enumerate() {
             checks::check_fits(

@@ -82,6 +82,20 @@ pub fn check_time_step(settings: &Settings, height: f64, smallest: f64) -> Resul
     ))
 }
 
+/// Refuses a box whose width or height up to `top` overflows (the spawn draws x between the
+/// walls, and cannot draw from an infinite range).
+pub fn check_box(walls: &Walls, top: f64) -> Result<(), String> {
+    let (width, height) = (walls.right - walls.left, top - walls.floor);
+    if width.is_finite() && height.is_finite() && width > 0.0 && height > 0.0 {
+        return Ok(());
+    }
+    Err(format!(
+        "box: its width ({}) and its height up to top ({}) must be finite numbers > 0",
+        short(width),
+        short(height)
+    ))
+}
+
 /// Refuses sleeping after 0 calm steps (grains would freeze where they appear).
 pub fn check_sleep(settings: &Settings) -> Result<(), String> {
     if settings.sleep_radius > 0.0 && settings.sleep_steps == 0 {

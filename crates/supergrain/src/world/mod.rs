@@ -206,10 +206,11 @@ impl World {
         )
     }
 
-    /// The first grain whose state is not finite: a run gone wrong, whose state must not be
-    /// written (nothing can resume or draw it).
+    /// The first grain whose state (pose, previous pose or velocity) is not finite: a run gone
+    /// wrong, whose state must not be written (nothing can resume or draw it).
     pub fn first_not_finite(&self) -> Option<usize> {
-        self.bodies.iter().position(|b| !b.is_finite())
+        (0..self.bodies.len())
+            .find(|&i| !self.bodies[i].is_finite() || !self.velocity(i).is_finite())
     }
 
     /// The first grain whose centre has left the box: left of the left wall, right of the right

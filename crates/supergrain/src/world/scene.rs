@@ -353,6 +353,7 @@ impl Scene {
         {
             return Err(SceneError::NotCircles(g.name.clone()));
         }
+        checks::check_box(&self.walls, self.top).map_err(SceneError::Unworkable)?;
         checks::check_sleep(&self.settings).map_err(SceneError::Unworkable)?;
         let mut smallest = f64::INFINITY;
         let mut area = 0.0;
