@@ -14,10 +14,6 @@ use crate::solver::{Body, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
 use crate::world::{Pending, Touch, World, checks};
 
-fn world_min_semi_axis(world: &World, i: usize) -> f64 {
-    world.bodies[i].shape.min_semi_axis()
-}
-
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallsJson {
@@ -299,6 +295,11 @@ impl Dump {
                 },
             },
         };
+        let walls = Walls {
+            left: w.left,
+            right: w.right,
+            floor: w.floor,
+        };
         let mut bodies = Vec::with_capacity(self.particles.len());
         let mut velocities = Vec::with_capacity(self.particles.len());
         for (index, p) in self.particles.iter().enumerate() {
@@ -324,11 +325,6 @@ impl Dump {
             if !body.is_finite() || !v.is_finite() {
                 return Err(DumpError::NotFinite(index));
             }
-            let walls = Walls {
-                left: w.left,
-                right: w.right,
-                floor: w.floor,
-            };
             let outside = checks::depth_outside(&walls, &body.bounding_box());
             if outside > checks::DEPTH_FRACTION * shape.min_semi_axis() {
                 return Err(DumpError::Unworkable(format!(
@@ -368,11 +364,6 @@ impl Dump {
         if !top.is_finite() {
             return Err(DumpError::Walls(format!("top must be finite, got {top}")));
         }
-        let walls = Walls {
-            left: w.left,
-            right: w.right,
-            floor: w.floor,
-        };
         checks::check_box(&walls, top).map_err(DumpError::Walls)?;
         checks::check_sleep(&settings).map_err(DumpError::Unworkable)?;
         for (index, p) in pending.iter().enumerate() {
@@ -393,24 +384,14 @@ impl Dump {
             checks::check_time_step(&settings, top - w.floor, smallest)
                 .map_err(DumpError::Unworkable)?;
         }
-        let mut world = World::from_parts(
-            bodies,
-            Walls {
-                left: w.left,
-                right: w.right,
-                floor: w.floor,
-            },
-            settings,
-            self.step,
-            top,
-            pending,
-        );
+        let mut world = World::from_parts(bodies, walls, settings, self.step, top, pending);
         // The velocities the dump reports stay the world's until its next step.
         world.set_velocities(&velocities);
         let mut deep = None;
         world.contacts(|t| {
             if let Touch::Grains(i, j, p) = t {
-                let thin = world_min_semi_axis(&world, i).min(world_min_semi_axis(&world, j));
+                let thin_of = |k: usize| world.bodies[k].shape.min_semi_axis();
+                let thin = thin_of(i).min(thin_of(j));
                 let shallow = p.depth() <= checks::DEPTH_FRACTION * thin;
                 if deep.is_none() && !shallow {
                     deep = Some((i, j, p.depth(), thin));
