@@ -168,8 +168,8 @@ pub struct RenderArgs {
     /// Frame width in pixels (the height follows the box).
     #[arg(long, default_value_t = 1024, value_parser = clap::value_parser!(u32).range(16..=8192))]
     width: u32,
-    /// Timed frames per renderer; the median is reported.
-    #[arg(long, default_value_t = 15)]
+    /// Timed frames per renderer; the median is reported (at least 1).
+    #[arg(long, default_value_t = 15, value_parser = at_least_one)]
     reps: usize,
     /// Print {"cases": [{"name", "ms"}]} instead of a table.
     #[arg(long)]
@@ -237,11 +237,11 @@ pub struct PresetArgs {
 
 #[derive(Parser)]
 pub struct ContactArgs {
-    /// Pairs per shape class.
-    #[arg(long, default_value_t = 1000)]
+    /// Pairs per shape class (at least 1).
+    #[arg(long, default_value_t = 1000, value_parser = at_least_one)]
     pairs: usize,
-    /// Timed passes over the pairs; the median is reported.
-    #[arg(long, default_value_t = 15)]
+    /// Timed passes over the pairs; the median is reported (at least 1).
+    #[arg(long, default_value_t = 15, value_parser = at_least_one)]
     reps: usize,
     /// Quadtree depth.
     #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_DEPTH)))]
@@ -371,4 +371,12 @@ fn print_csv(cases: &[serde_json::Value]) -> Result<ExitCode> {
     }
     out.flush().context("cannot write to standard output")?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// A count of at least 1: a timing over no pair or no pass means nothing.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("expected a whole number >= 1, got {s}")),
+    }
 }

@@ -45,7 +45,8 @@ pub struct Args {
     #[arg(long, value_name = "SHAPE", required_unless_present = "batch", conflicts_with = "batch", allow_hyphen_values = true, value_parser = parse_shape)]
     b: Option<ShapeJson>,
     /// Read pairs as JSON Lines from FILE (or - for standard input): {"a": SHAPE, "b": SHAPE},
-    /// optionally with "depth" and "eps". Each output line answers the input line of the same
+    /// optionally with "depth" and "eps"; each SHAPE an object or the string
+    /// "X,Y,ANGLE,SX,SY,EX,EY". Each output line answers the input line of the same
     /// number; a bad line is answered {"error": "..."} and the exit code is 1.
     #[arg(long, value_name = "FILE")]
     batch: Option<PathBuf>,
@@ -53,7 +54,7 @@ pub struct Args {
     #[arg(long, default_value_t = 7, value_parser = clap::value_parser!(u32).range(0..=i64::from(MAX_DEPTH)))]
     depth: u32,
     /// Tolerance: cell sides shorter than this are not split (0: depth alone decides).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     eps: f64,
     /// Answer by the paper's quadtree alone, never by the certified Newton path.
     #[arg(long)]
@@ -68,30 +69,7 @@ pub struct Args {
 }
 
 fn parse_shape(s: &str) -> Result<ShapeJson, String> {
-    let shape = if s.trim_start().starts_with('{') {
-        serde_json::from_str::<ShapeJson>(s).map_err(|e| format!("not a shape object: {e}"))?
-    } else {
-        let v: Vec<f64> = s
-            .split(',')
-            .map(|x| {
-                x.trim()
-                    .parse::<f64>()
-                    .map_err(|_| format!("`{}` is not a number", x.trim()))
-            })
-            .collect::<Result<_, _>>()?;
-        let [x, y, angle, sx, sy, ex, ey] = v[..] else {
-            return Err(format!(
-                "expected 7 numbers X,Y,ANGLE,SX,SY,EX,EY, got {}",
-                v.len()
-            ));
-        };
-        ShapeJson {
-            center: [x, y],
-            angle,
-            semi_axes: [sx, sy],
-            exponents: [ex, ey],
-        }
-    };
+    let shape: ShapeJson = s.parse()?;
     shape.to_shape().map_err(|e| e.to_string())?;
     Ok(shape)
 }

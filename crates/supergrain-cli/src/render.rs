@@ -33,7 +33,7 @@ pub struct Args {
 pub fn run(args: Args) -> Result<ExitCode> {
     let text = std::fs::read_to_string(&args.state)
         .with_context(|| format!("cannot read {}", args.state.display()))?;
-    let dump: Dump = serde_json::from_str(&text)
+    let dump = Dump::from_json(&text)
         .with_context(|| format!("{} is not a supergrain dump", args.state.display()))?;
     let world = dump
         .to_world()

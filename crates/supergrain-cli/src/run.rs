@@ -13,6 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use supergrain::io::{Dump, GifWriter, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
 use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::solver::NarrowPhase;
+use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Scene, World};
 
 use crate::output::{Folder, Output, Plans, Target};
@@ -84,7 +85,7 @@ pub struct Args {
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
     /// Frames per second of the GIF.
-    #[arg(long, default_value_t = 25.0, value_parser = positive_number)]
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, value_parser = positive_number)]
     fps: f64,
     #[command(flatten)]
     picture: PictureArgs,
@@ -100,7 +101,7 @@ pub struct Args {
     until_rest: bool,
     /// Speed under which a grain counts as at rest (5% of a falling grain's terminal speed
     /// g h / delta with the paper's settings).
-    #[arg(long, default_value_t = 0.05, value_name = "SPEED", value_parser = positive_number)]
+    #[arg(long, default_value_t = 0.05, value_name = "SPEED", allow_negative_numbers = true, value_parser = positive_number)]
     rest_speed: f64,
     /// Steps between frames of --trajectory, --vtk, --gif and --frames.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
@@ -220,6 +221,8 @@ pub fn run(args: Args) -> Result<ExitCode> {
     frame(&world, &mut trajectory, &mut failures);
     let stop = stop_on_interrupt();
     let mut interrupted = false;
+    // The first grain to leave the box, and the step: the run goes on, and says so.
+    let mut escaped: Option<(usize, u64)> = None;
     for k in 1..=steps {
         // A stop request abandons the step under way: the world is then the last whole step's.
         let Ok(stats) = world.step_or_stop(&stop) else {
@@ -227,6 +230,25 @@ pub fn run(args: Args) -> Result<ExitCode> {
             break;
         };
         done = k;
+        if let Some(i) = world.first_not_finite() {
+            bail!(
+                "grain {i} left the computable range at step {}: its position is not finite \
+                 (no output written from this state)",
+                world.step
+            );
+        }
+        if escaped.is_none()
+            && let Some(i) = world.first_outside()
+        {
+            let c = world.bodies[i].center;
+            eprintln!(
+                "warning: grain {i} left the box at step {} (centre at ({}, {}))",
+                world.step,
+                short(c.x),
+                short(c.y)
+            );
+            escaped = Some((i, world.step));
+        }
         contacts += stats.contacts as u64;
         if k % args.every == 0 {
             frame(&world, &mut trajectory, &mut failures);
@@ -314,6 +336,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
             world.deepest_penetration(),
             world.max_speed(),
         );
+        if let Some((i, at)) = escaped {
+            eprintln!(
+                "the run went wrong: grain {i} left the box at step {at} (a time step too long, \
+                 or grains placed by hand deep in each other or in a wall)"
+            );
+        }
         if interrupted {
             eprintln!(
                 "interrupted after step {}: the outputs hold that state (--resume a dump to go on)",
@@ -396,7 +424,7 @@ fn load(args: &Args) -> Result<(World, u64)> {
     if let Some(path) = &args.resume {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read dump {}", path.display()))?;
-        let dump: Dump = serde_json::from_str(&text)
+        let dump = Dump::from_json(&text)
             .with_context(|| format!("{} is not a supergrain dump", path.display()))?;
         let mut world = dump
             .to_world()

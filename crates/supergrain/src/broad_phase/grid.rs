@@ -13,6 +13,9 @@ use crate::geometry::{Aabb, Vec2};
 /// The fat box margin, as a fraction of the cell size.
 const MARGIN: f64 = 0.1;
 
+/// The most cells per body (see `rebuild`).
+const CELLS_PER_BODY: usize = 4;
+
 /// The most cells along one side; beyond that, cells grow (a grain flung far away would
 /// otherwise make the grid huge).
 const MAX_CELLS: usize = 4096;
@@ -123,8 +126,26 @@ impl BroadPhase for Grid {
             .max(span / MAX_CELLS as f64)
             .max(f64::MIN_POSITIVE);
         self.origin = lo;
-        self.nx = (((hi.x - lo.x) / self.cell).floor() as usize + 1).min(MAX_CELLS);
-        self.ny = (((hi.y - lo.y) / self.cell).floor() as usize + 1).min(MAX_CELLS);
+        let cells_along = |extent: f64, cell: f64| {
+            ((extent / cell).floor() as usize)
+                .saturating_add(1)
+                .min(MAX_CELLS)
+        };
+        // At most CELLS_PER_BODY cells per body: tiny grains spread over a large box would
+        // otherwise make millions of empty cells (5 grains of radius 1e-6 in an 8 x 10 box:
+        // 4096 x 4096 cells, 150 MB, cleared at every rebuild). Larger cells change no
+        // candidate list, which is exact.
+        let most = CELLS_PER_BODY.saturating_mul(boxes.len()).max(1);
+        loop {
+            self.nx = cells_along(hi.x - lo.x, self.cell);
+            self.ny = cells_along(hi.y - lo.y, self.cell);
+            if self.nx.saturating_mul(self.ny) <= most {
+                break;
+            }
+            self.cell *= 2.0;
+        }
+        self.cells.truncate(self.nx * self.ny);
+        self.cells.shrink_to(4 * self.nx * self.ny);
         self.cells.resize(self.nx * self.ny, Vec::new());
         for (i, b) in boxes.iter().enumerate() {
             let fat = self.fatten(b);
@@ -164,5 +185,40 @@ impl BroadPhase for Grid {
             }
         }
         out.truncate(kept);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Five grains of radius 1e-6 spread over an 8 x 10 box (issue 17: 4096 x 4096 cells,
+    /// 150 MB, 0.04 s a step): the cells stay a few per grain, and the candidates are still
+    /// exactly the overlapping boxes.
+    #[test]
+    fn tiny_grains_in_a_large_box_make_few_cells() {
+        let r = 1e-6;
+        let at = |x: f64, y: f64| Aabb::new(Vec2::new(x - r, y - r), Vec2::new(x + r, y + r));
+        let boxes = [
+            at(-4.0, 0.0),
+            at(4.0, 10.0),
+            at(0.0, 5.0),
+            at(0.0, 5.0 + r),
+            at(3.0, 1.0),
+        ];
+        let mut grid = Grid::new();
+        grid.rebuild(&boxes);
+        assert!(
+            grid.cells.len() <= CELLS_PER_BODY * boxes.len(),
+            "{} cells for {} grains",
+            grid.cells.len(),
+            boxes.len()
+        );
+        let mut near = Vec::new();
+        grid.candidates(2, &boxes, &mut near);
+        assert_eq!(near, vec![3]);
+        near.clear();
+        grid.candidates(0, &boxes, &mut near);
+        assert!(near.is_empty());
     }
 }

@@ -12,7 +12,7 @@ use crate::geometry::Vec2;
 use crate::shape::{Pose, ShapeError, Superellipse};
 use crate::solver::{Body, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
-use crate::world::{Pending, World};
+use crate::world::{Pending, Touch, World, checks};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -132,9 +132,21 @@ pub enum DumpError {
     Solver(String),
     #[error("particle {0}: a number is not finite")]
     NotFinite(usize),
+    #[error("step: {0} is past the last step a dump can hold ({max})", max = checks::MAX_STEP)]
+    Step(u64),
+    /// A state the solver cannot go on from: a grain outside the box or deep in another, a
+    /// grain that cannot fit or appear, a time step too long for the grains.
+    #[error("{0}")]
+    Unworkable(String),
 }
 
 impl Dump {
+    /// A dump from the text of a JSON file. A UTF-8 byte-order mark before it (some editors
+    /// save one) is skipped: JSON forbids it, but it says nothing about the content.
+    pub fn from_json(text: &str) -> Result<Dump, serde_json::Error> {
+        serde_json::from_str(text.strip_prefix('\u{feff}').unwrap_or(text))
+    }
+
     /// The state of a world.
     pub fn of(world: &World) -> Dump {
         let s = &world.settings;
@@ -216,7 +228,15 @@ impl Dump {
     }
 
     /// The world this dump describes, ready to go on.
+    ///
+    /// Refused before any work (see [`checks`]): a non-finite number, a `step` past
+    /// [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`] of its smallest
+    /// semi-axis beyond a wall or inside another grain, a grain still to appear that cannot fit
+    /// between the walls or would appear in the floor, a time step too long for the grains.
     pub fn to_world(&self) -> Result<World, DumpError> {
+        if self.step > checks::MAX_STEP {
+            return Err(DumpError::Step(self.step));
+        }
         let w = &self.walls;
         if !(w.left.is_finite() && w.right.is_finite() && w.floor.is_finite() && w.left < w.right) {
             return Err(DumpError::Walls(format!(
@@ -275,6 +295,11 @@ impl Dump {
                 },
             },
         };
+        let walls = Walls {
+            left: w.left,
+            right: w.right,
+            floor: w.floor,
+        };
         let mut bodies = Vec::with_capacity(self.particles.len());
         let mut velocities = Vec::with_capacity(self.particles.len());
         for (index, p) in self.particles.iter().enumerate() {
@@ -300,6 +325,19 @@ impl Dump {
             if !body.is_finite() || !v.is_finite() {
                 return Err(DumpError::NotFinite(index));
             }
+            let outside = checks::depth_outside(&walls, &body.bounding_box());
+            if outside > checks::DEPTH_FRACTION * shape.min_semi_axis() {
+                return Err(DumpError::Unworkable(format!(
+                    "particle {index}: centre ({}, {}) puts it {outside:.3e} beyond the walls \
+                     (left {}, right {}, floor {}), more than {} x its smallest semi-axis",
+                    p.center[0],
+                    p.center[1],
+                    w.left,
+                    w.right,
+                    w.floor,
+                    checks::DEPTH_FRACTION
+                )));
+            }
             bodies.push(body);
             velocities.push(v);
         }
@@ -323,20 +361,50 @@ impl Dump {
                 .map(|b| b.bounding_box().max.y)
                 .fold(w.floor + 1.0, f64::max)
         });
-        let mut world = World::from_parts(
-            bodies,
-            Walls {
-                left: w.left,
-                right: w.right,
-                floor: w.floor,
-            },
-            settings,
-            self.step,
-            top,
-            pending,
-        );
+        if !top.is_finite() {
+            return Err(DumpError::Walls(format!("top must be finite, got {top}")));
+        }
+        checks::check_box(&walls, top).map_err(DumpError::Walls)?;
+        checks::check_sleep(&settings).map_err(DumpError::Unworkable)?;
+        for (index, p) in pending.iter().enumerate() {
+            checks::check_fits(
+                &walls,
+                top,
+                p.shape.bounding_radius(),
+                &format!("pending grain {index}"),
+            )
+            .map_err(DumpError::Unworkable)?;
+        }
+        let smallest = bodies
+            .iter()
+            .map(|b| b.shape.min_semi_axis())
+            .chain(pending.iter().map(|p| p.shape.min_semi_axis()))
+            .fold(f64::INFINITY, f64::min);
+        if smallest.is_finite() {
+            checks::check_time_step(&settings, top - w.floor, smallest)
+                .map_err(DumpError::Unworkable)?;
+        }
+        let mut world = World::from_parts(bodies, walls, settings, self.step, top, pending);
         // The velocities the dump reports stay the world's until its next step.
         world.set_velocities(&velocities);
+        let mut deep = None;
+        world.contacts(|t| {
+            if let Touch::Grains(i, j, p) = t {
+                let thin_of = |k: usize| world.bodies[k].shape.min_semi_axis();
+                let thin = thin_of(i).min(thin_of(j));
+                let shallow = p.depth() <= checks::DEPTH_FRACTION * thin;
+                if deep.is_none() && !shallow {
+                    deep = Some((i, j, p.depth(), thin));
+                }
+            }
+        });
+        if let Some((i, j, depth, thin)) = deep {
+            return Err(DumpError::Unworkable(format!(
+                "particles {i} and {j} overlap {depth:.3e} deep, more than {} x the smaller \
+                 smallest semi-axis ({thin}): not a state the solver leaves",
+                checks::DEPTH_FRACTION
+            )));
+        }
         Ok(world)
     }
 }

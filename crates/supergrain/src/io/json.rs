@@ -36,12 +36,67 @@ impl ShapeJson {
     }
 }
 
+impl std::str::FromStr for ShapeJson {
+    type Err = String;
+
+    /// The command line's short form `X,Y,ANGLE,SX,SY,EX,EY` (centre, angle in radians,
+    /// semi-axes, exponents), or the JSON object. The numbers are not checked here: see
+    /// [`ShapeJson::to_shape`].
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.trim_start().starts_with('{') {
+            return serde_json::from_str::<ShapeJson>(s)
+                .map_err(|e| format!("not a shape object: {e}"));
+        }
+        let v: Vec<f64> = s
+            .split(',')
+            .map(|x| {
+                x.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("`{}` is not a number", x.trim()))
+            })
+            .collect::<Result<_, _>>()?;
+        let [x, y, angle, sx, sy, ex, ey] = v[..] else {
+            return Err(format!(
+                "expected 7 numbers X,Y,ANGLE,SX,SY,EX,EY, got {}",
+                v.len()
+            ));
+        };
+        Ok(ShapeJson {
+            center: [x, y],
+            angle,
+            semi_axes: [sx, sy],
+            exponents: [ex, ey],
+        })
+    }
+}
+
+/// A shape in a batch line: the JSON object, or the string `"X,Y,ANGLE,SX,SY,EX,EY"` (the
+/// command line's SHAPE).
+fn shape_or_text<'de, D: serde::Deserializer<'de>>(d: D) -> Result<ShapeJson, D::Error> {
+    struct V;
+    impl<'de> serde::de::Visitor<'de> for V {
+        type Value = ShapeJson;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a shape: {\"center\": ..., ...} or \"X,Y,ANGLE,SX,SY,EX,EY\"")
+        }
+        fn visit_str<E: serde::de::Error>(self, s: &str) -> Result<ShapeJson, E> {
+            s.parse().map_err(E::custom)
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<ShapeJson, A::Error> {
+            ShapeJson::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+        }
+    }
+    d.deserialize_any(V)
+}
+
 /// One line of `supergrain contact --batch`: `{"a": SHAPE, "b": SHAPE}`, optionally with
-/// `"depth"` and `"eps"`.
+/// `"depth"` and `"eps"`; each SHAPE an object or the string `"X,Y,ANGLE,SX,SY,EX,EY"`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactQuery {
+    #[serde(deserialize_with = "shape_or_text")]
     pub a: ShapeJson,
+    #[serde(deserialize_with = "shape_or_text")]
     pub b: ShapeJson,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth: Option<u32>,

@@ -1,6 +1,7 @@
 //! The world: grains in an open box, grains appearing at the top over time (paper III), and the
 //! solver stepping them. It knows nothing of pixels or files.
 
+pub mod checks;
 mod scene;
 
 use std::collections::VecDeque;
@@ -256,6 +257,23 @@ impl World {
             body,
             &body.bounding_box(),
         )
+    }
+
+    /// The first grain whose state (pose, previous pose or velocity) is not finite: a run gone
+    /// wrong, whose state must not be written (nothing can resume or draw it).
+    pub fn first_not_finite(&self) -> Option<usize> {
+        (0..self.bodies.len())
+            .find(|&i| !self.bodies[i].is_finite() || !self.velocity(i).is_finite())
+    }
+
+    /// The first grain whose centre has left the box: left of the left wall, right of the right
+    /// one or below the floor (a run gone wrong: the walls no longer hold it).
+    pub fn first_outside(&self) -> Option<usize> {
+        let w = self.walls;
+        self.bodies.iter().position(|b| {
+            let c = b.center;
+            !(c.x >= w.left && c.x <= w.right && c.y >= w.floor)
+        })
     }
 
     /// All grains have appeared.

@@ -7,7 +7,9 @@ use std::fmt;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
+use super::checks;
 use crate::broad_phase::Kind as BroadPhaseKind;
+use crate::shape::Superellipse;
 use crate::solver::{NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
@@ -42,6 +44,48 @@ pub struct Group {
     pub angle: Range,
 }
 
+impl Group {
+    /// The smallest and the largest shapes the group can draw (every range at its low end, and
+    /// at its high end), after checking that every corner of the ranges makes a valid shape: the
+    /// shape's limits are monotone in each number, so the corners bound every draw. An error
+    /// names the field (`radius`, `semi_axes`, `exponent`, `exponents`).
+    pub fn extreme_shapes(&self) -> Result<(Superellipse, Superellipse), String> {
+        let [sx, sy] = self.semi_axes;
+        let [ex, ey] = self.exponents;
+        let ends = |r: Range| [r.lo, r.hi];
+        let make = |s: [f64; 2], e: [f64; 2]| {
+            Superellipse::new(s, e).map_err(|err| {
+                let field = checks::shape_field(&err, self.circles, self.same_exponents);
+                format!(
+                    "{field}: the range's extreme semi-axes {s:?} with exponents {e:?} make no \
+                     valid shape: {err}"
+                )
+            })
+        };
+        for a in ends(sx) {
+            for b in if self.circles { [a, a] } else { ends(sy) } {
+                for p in ends(ex) {
+                    for q in if self.same_exponents {
+                        [p, p]
+                    } else {
+                        ends(ey)
+                    } {
+                        make([a, b], [p, q])?;
+                    }
+                }
+            }
+        }
+        let sy_lo = if self.circles { sx.lo } else { sy.lo };
+        let sy_hi = if self.circles { sx.hi } else { sy.hi };
+        let ey_lo = if self.same_exponents { ex.lo } else { ey.lo };
+        let ey_hi = if self.same_exponents { ex.hi } else { ey.hi };
+        Ok((
+            make([sx.lo, sy_lo], [ex.lo, ey_lo])?,
+            make([sx.hi, sy_hi], [ex.hi, ey_hi])?,
+        ))
+    }
+}
+
 /// A whole scene, validated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -72,6 +116,12 @@ pub enum SceneError {
     NotCircles(String),
     #[error("unknown preset `{0}`; the presets are circles, ellipses, squircles and mixed")]
     UnknownPreset(String),
+    /// A group whose ranges draw grains that cannot be made or cannot work in the box.
+    #[error("group `{group}`: {message}")]
+    Group { group: String, message: String },
+    /// Settings, box or spawn rule that cannot work together.
+    #[error("{0}")]
+    Unworkable(String),
 }
 
 impl Scene {
@@ -215,9 +265,20 @@ impl Scene {
         let mut groups = Vec::new();
         for (k, g) in file.groups.iter().enumerate() {
             let name = g.name.clone().unwrap_or_else(|| format!("group {}", k + 1));
+            let pair = |field: &str, v: &toml::Spanned<Vec<PositiveRange>>| match v.get_ref()[..] {
+                [x, y] => Ok([x.0, y.0]),
+                _ => Err(invalid(
+                    v.span(),
+                    format!(
+                        "group `{name}`: {field} needs two entries [x, y] (each a number or a \
+                         range [lo, hi]), got {}",
+                        v.get_ref().len()
+                    ),
+                )),
+            };
             let (semi_axes, circles) = match (&g.radius, &g.semi_axes) {
                 (Some(r), None) => ([r.0; 2], true),
-                (None, Some(s)) => ([s[0].0, s[1].0], false),
+                (None, Some(s)) => (pair("semi_axes", s)?, false),
                 _ => {
                     return Err(invalid(
                         g.count.span(),
@@ -229,7 +290,7 @@ impl Scene {
             };
             let (exponents, same_exponents) = match (&g.exponent, &g.exponents) {
                 (Some(e), None) => ([e.0; 2], true),
-                (None, Some(e)) => ([e[0].0, e[1].0], false),
+                (None, Some(e)) => (pair("exponents", e)?, false),
                 (None, None) => ([Range::fixed(2.0); 2], true),
                 _ => {
                     return Err(invalid(
@@ -278,7 +339,11 @@ impl Scene {
         Ok(scene)
     }
 
-    /// Checks what the parts cannot check alone: the analytic narrow phase needs circles only.
+    /// Checks what the parts cannot check alone, before any work (see [`checks`]): the analytic
+    /// narrow phase needs circles only; the extremes of every drawn range make a valid shape
+    /// that fits between the walls and appears above the floor; the box holds all the grains;
+    /// a falling grain moves less than [`checks::STEP_FRACTION`] of the smallest semi-axis per
+    /// step; sleeping needs at least one calm step.
     pub fn validate(&self) -> Result<(), SceneError> {
         if self.settings.narrow_phase == NarrowPhase::Analytic
             && let Some(g) = self
@@ -287,6 +352,31 @@ impl Scene {
                 .find(|g| !g.circles || g.exponents != [Range::fixed(2.0); 2])
         {
             return Err(SceneError::NotCircles(g.name.clone()));
+        }
+        checks::check_box(&self.walls, self.top).map_err(SceneError::Unworkable)?;
+        checks::check_sleep(&self.settings).map_err(SceneError::Unworkable)?;
+        let mut smallest = f64::INFINITY;
+        let mut area = 0.0;
+        for g in &self.groups {
+            let group_error = |message: String| SceneError::Group {
+                group: g.name.clone(),
+                message,
+            };
+            let (least, largest) = g.extreme_shapes().map_err(group_error)?;
+            if g.count == 0 {
+                continue;
+            }
+            let field = if g.circles { "radius" } else { "semi_axes" };
+            checks::check_fits(&self.walls, self.top, largest.bounding_radius(), field)
+                .map_err(group_error)?;
+            smallest = smallest.min(least.min_semi_axis());
+            area += f64::from(g.count) * least.area();
+        }
+        checks::check_capacity(&self.walls, self.top, self.grain_count(), area)
+            .map_err(SceneError::Unworkable)?;
+        if smallest.is_finite() {
+            checks::check_time_step(&self.settings, self.top - self.walls.floor, smallest)
+                .map_err(SceneError::Unworkable)?;
         }
         Ok(())
     }
@@ -423,9 +513,10 @@ struct GroupSpec {
     name: Option<String>,
     count: toml::Spanned<u32>,
     radius: Option<PositiveRange>,
-    semi_axes: Option<[PositiveRange; 2]>,
+    // Vectors, not arrays: a third number must be an error, not dropped.
+    semi_axes: Option<toml::Spanned<Vec<PositiveRange>>>,
     exponent: Option<PositiveRange>,
-    exponents: Option<[PositiveRange; 2]>,
+    exponents: Option<toml::Spanned<Vec<PositiveRange>>>,
     angle: Option<FiniteRange>,
 }
 

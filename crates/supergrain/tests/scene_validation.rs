@@ -1,0 +1,343 @@
+//! Scenes and dumps that cannot work are refused before any work (issue 17, section 4 and the
+//! count of section 5), with an error naming the group or grain and the field; the paper's
+//! presets and every example scene are still accepted. The time-step rule is checked against a
+//! damped Verlet fall written again here, sharing no code with the library.
+
+use proptest::prelude::*;
+use supergrain::geometry::Vec2;
+use supergrain::io::{Dump, DumpError};
+use supergrain::shape::{Pose, Superellipse};
+use supergrain::solver::{Body, Settings, Walls};
+use supergrain::world::{PRESETS, Scene, SceneError, World};
+
+/// An 8 x 10 box (the presets'), five circles, and the given extra lines.
+fn scene(top: f64, solver: &str, group: &str) -> String {
+    format!(
+        "seed = 3\nsteps = 50\n\n[box]\nleft = -4.0\nright = 4.0\nfloor = 0.0\ntop = {top:?}\n\n\
+         [solver]\n{solver}\n\n[[group]]\nname = \"stones\"\n{group}\n"
+    )
+}
+
+fn refused(text: &str) -> String {
+    match Scene::from_toml(text) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn accepted(text: &str) -> Scene {
+    Scene::from_toml(text).unwrap_or_else(|e| panic!("refused: {e}\n{text}"))
+}
+
+#[test]
+fn every_preset_and_example_scene_is_accepted() {
+    for name in PRESETS {
+        Scene::preset(name).unwrap().validate().unwrap();
+    }
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/scenes");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            Scene::from_toml(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            seen += 1;
+        }
+    }
+    assert!(seen >= 7, "only {seen} example scenes");
+}
+
+#[test]
+fn a_radius_whose_grain_cannot_fit_names_the_group_and_the_field() {
+    // 1e160 used to run and write "center": [null, null].
+    for r in ["1e160", "5.0", "[0.3, 4.5]"] {
+        let e = refused(&scene(10.0, "", &format!("count = 5\nradius = {r}")));
+        assert!(e.contains("group `stones`"), "{e}");
+        assert!(e.contains("radius"), "{e}");
+    }
+    let e = refused(&scene(10.0, "", "count = 5\nsemi_axes = [4.5, 0.3]"));
+    assert!(
+        e.contains("group `stones`") && e.contains("semi_axes"),
+        "{e}"
+    );
+    assert!(e.contains("cannot fit between the walls"), "{e}");
+    // A grain that can turn between the walls (its bounding diameter under the width) is fine.
+    accepted(&scene(10.0, "", "count = 1\nradius = 3.9"));
+}
+
+#[test]
+fn a_spawn_height_that_puts_grains_in_the_floor_is_refused() {
+    let e = refused(&scene(0.2, "", "count = 5\nradius = [0.3, 0.7]"));
+    assert!(e.contains("group `stones`") && e.contains("top"), "{e}");
+    assert!(e.contains("floor"), "{e}");
+    // Just above the largest grain's reach: accepted.
+    accepted(&scene(0.71, "", "count = 5\nradius = [0.3, 0.7]"));
+}
+
+#[test]
+fn sleeping_after_no_calm_step_is_refused() {
+    let e = refused(&scene(10.0, "sleep_steps = 0", "count = 5\nradius = 0.3"));
+    assert!(e.contains("sleep_steps"), "{e}");
+    // Sleeping off: sleep_steps is unused.
+    accepted(&scene(
+        10.0,
+        "sleep_steps = 0\nsleep_radius = 0.0",
+        "count = 5\nradius = 0.3",
+    ));
+}
+
+#[test]
+fn a_third_semi_axis_or_exponent_is_an_error_naming_the_field_and_line() {
+    let text = scene(10.0, "", "count = 5\nsemi_axes = [0.3, 0.4, 0.5]");
+    match Scene::from_toml(&text) {
+        Err(SceneError::Invalid { line, message }) => {
+            assert_eq!(line, 16, "{message}");
+            assert!(
+                message.contains("semi_axes") && message.contains("got 3"),
+                "{message}"
+            );
+            assert!(message.contains("stones"), "{message}");
+        }
+        other => panic!("expected an error naming the line, got {other:?}"),
+    }
+    let e = refused(&scene(10.0, "", "count = 5\nsemi_axes = [0.3]"));
+    assert!(e.contains("semi_axes") && e.contains("got 1"), "{e}");
+    let e = refused(&scene(
+        10.0,
+        "",
+        "count = 5\nsemi_axes = [0.3, 0.4]\nexponents = [2.0, 3.0, 4.0]",
+    ));
+    assert!(e.contains("exponents") && e.contains("got 3"), "{e}");
+}
+
+#[test]
+fn a_count_the_box_cannot_hold_is_refused_with_the_estimate() {
+    // 4294967295 used to abort allocating 1.2 GB.
+    let e = refused(&scene(10.0, "", "count = 4294967295\nradius = 0.3"));
+    assert!(e.contains("cannot hold 4294967295"), "{e}");
+    // The estimate: 0.9 of the 8 x 10 box over the area of one disc of radius 0.3.
+    let holds = (0.9 * 80.0 / (std::f64::consts::PI * 0.09)).floor();
+    assert!(e.contains(&format!("holds about {holds}")), "{e}");
+    refused(&scene(10.0, "", "count = 10000000\nradius = 0.3"));
+    // Two groups add up: each alone fits, both do not.
+    let two = format!(
+        "{}\n[[group]]\nname = \"more\"\ncount = 200\nradius = 0.3\n",
+        scene(10.0, "", "count = 200\nradius = 0.3")
+    );
+    refused(&two);
+    accepted(&scene(10.0, "", "count = 200\nradius = 0.3"));
+}
+
+#[test]
+fn a_time_step_that_lets_grains_jump_through_each_other_is_refused() {
+    for solver in ["step = 0.5", "step = 1e9", "gravity = 1e10"] {
+        let e = refused(&scene(10.0, solver, "count = 5\nradius = 0.3"));
+        assert!(
+            e.contains("step") && e.contains("use step <="),
+            "{solver}: {e}"
+        );
+    }
+    // Tiny grains need a short step: radius 1e-6 at the paper's step is refused.
+    refused(&scene(10.0, "", "count = 5\nradius = 1e-6"));
+}
+
+/// The largest distance a grain falling from rest `height` down to the floor moves in one step
+/// of `x' = x + (1 - delta)(x - x_prev) - g h^2`, by stepping it (written again here).
+fn fall_step(step: f64, gravity: f64, damping: f64, height: f64) -> f64 {
+    let (mut y, mut prev) = (height, height);
+    let mut largest = 0.0f64;
+    for _ in 0..1_000_000 {
+        let next = y + (1.0 - damping) * (y - prev) - gravity * step * step;
+        largest = largest.max(y - next);
+        (prev, y) = (y, next);
+        if y <= 0.0 {
+            break;
+        }
+    }
+    largest
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Whatever the step, gravity, damping, spawn height and grain size, an accepted scene's
+    /// grains fall less than half the smallest semi-axis per step (the documented rule); and the
+    /// paper's settings are accepted for grains of any size from 0.01 up.
+    #[test]
+    fn an_accepted_time_step_moves_a_falling_grain_less_than_half_its_thickness(
+        log_step in -4.0f64..0.0,
+        gravity in 0.0f64..50.0,
+        damping in 0.0f64..0.9,
+        top in 1.0f64..100.0,
+        log_r in -2.0f64..-0.5,
+    ) {
+        let (step, r) = (10f64.powf(log_step), 10f64.powf(log_r));
+        let text = scene(
+            top,
+            &format!("step = {step:?}\ngravity = {gravity:?}\ndamping = {damping:?}"),
+            &format!("count = 5\nradius = {r:?}"),
+        );
+        let moved = fall_step(step, gravity, damping, top);
+        if Scene::from_toml(&text).is_ok() {
+            prop_assert!(moved <= 0.5 * r * (1.0 + 1e-9), "moved {moved} per step, radius {r}");
+        }
+        if damping >= 0.1 && gravity <= 9.8 && step <= 0.01 && r >= 0.02 {
+            prop_assert!(Scene::from_toml(&text).is_ok(), "paper's settings refused: {text}");
+        }
+    }
+}
+
+#[test]
+fn interval_zero_means_every_grain_due_at_once_appearing_as_room_allows() {
+    let text = format!(
+        "{}\n[spawn]\ninterval = 0\n",
+        scene(10.0, "", "count = 12\nradius = 0.3")
+    );
+    let s = accepted(&text);
+    let mut w = World::new(&s);
+    assert!(w.pending.iter().all(|p| p.due == 0));
+    for _ in 0..200 {
+        w.step();
+        // No two grains ever appear in each other (circles: centre distance against radii).
+        for (i, a) in w.bodies.iter().enumerate() {
+            for b in &w.bodies[i + 1..] {
+                let d = (a.center - b.center).norm();
+                let r = a.shape.semi_axes().x + b.shape.semi_axes().x;
+                assert!(d > r - 0.05, "grains {d} apart, radii {r}");
+            }
+        }
+    }
+    assert!(w.all_spawned(), "{} still to appear", w.pending.len());
+}
+
+// ---- Dumps ----
+
+/// The circles preset after 300 steps, as JSON.
+fn a_dump() -> serde_json::Value {
+    let mut w = World::new(&Scene::preset("circles").unwrap());
+    for _ in 0..300 {
+        w.step();
+    }
+    serde_json::to_value(Dump::of(&w)).unwrap()
+}
+
+fn to_world(v: &serde_json::Value) -> Result<World, DumpError> {
+    serde_json::from_value::<Dump>(v.clone())
+        .unwrap()
+        .to_world()
+}
+
+#[test]
+fn a_dump_step_that_would_wrap_is_refused() {
+    let mut d = a_dump();
+    d["step"] = serde_json::json!(u64::MAX);
+    let e = to_world(&d)
+        .expect_err("accepted step 2^64 - 1")
+        .to_string();
+    assert!(
+        e.contains("step") && e.contains("18446744073709551615"),
+        "{e}"
+    );
+    d["step"] = serde_json::json!(1u64 << 53);
+    let mut w = to_world(&d).unwrap();
+    w.step();
+    assert_eq!(w.step, (1u64 << 53) + 1);
+}
+
+#[test]
+fn a_dump_with_a_byte_order_mark_reads_as_without() {
+    let text = serde_json::to_string(&a_dump()).unwrap();
+    let plain = Dump::from_json(&text).unwrap();
+    let marked = Dump::from_json(&format!("\u{feff}{text}")).unwrap();
+    assert_eq!(plain, marked);
+    assert_eq!(plain.particles.len(), 12);
+}
+
+#[test]
+fn a_dump_with_a_grain_outside_the_walls_is_refused_naming_it() {
+    let mut d = a_dump();
+    d["particles"][3]["center"][0] = serde_json::json!(100.0);
+    d["particles"][3]
+        .as_object_mut()
+        .unwrap()
+        .remove("previous_center");
+    let e = to_world(&d)
+        .expect_err("a grain at x = 100 accepted")
+        .to_string();
+    assert!(
+        e.contains("particle 3") && e.contains("beyond the walls"),
+        "{e}"
+    );
+    // Below the floor too.
+    let mut d = a_dump();
+    d["particles"][0]["center"][1] = serde_json::json!(-2.0);
+    let e = to_world(&d)
+        .expect_err("a grain under the floor accepted")
+        .to_string();
+    assert!(e.contains("particle 0"), "{e}");
+}
+
+#[test]
+fn a_dump_with_deeply_overlapping_grains_is_refused_naming_them() {
+    let mut d = a_dump();
+    let c = d["particles"][0]["center"].clone();
+    d["particles"][5]["center"] = c;
+    d["particles"][5]
+        .as_object_mut()
+        .unwrap()
+        .remove("previous_center");
+    let e = to_world(&d).expect_err("overlap accepted").to_string();
+    assert!(
+        e.contains("particles 0 and 5") && e.contains("overlap"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_dump_whose_waiting_grain_cannot_fit_is_refused() {
+    let mut d = a_dump();
+    assert!(!d["pending"].as_array().unwrap().is_empty());
+    d["pending"][0]["semi_axes"] = serde_json::json!([5.0, 5.0]);
+    let e = to_world(&d).expect_err("accepted").to_string();
+    assert!(e.contains("pending grain 0") && e.contains("fit"), "{e}");
+    let mut d = a_dump();
+    d["solver"]["step"] = serde_json::json!(0.5);
+    let e = to_world(&d).expect_err("accepted").to_string();
+    assert!(e.contains("step"), "{e}");
+}
+
+// ---- Runs that go wrong anyway ----
+
+fn lone(center: Vec2, previous: Vec2) -> World {
+    let shape = Superellipse::circle(0.3).unwrap();
+    let body = Body {
+        previous_center: previous,
+        ..Body::at_rest(shape, &Pose::new(center, 0.0).unwrap())
+    };
+    World::from_parts(
+        vec![body],
+        Walls {
+            left: -4.0,
+            right: 4.0,
+            floor: 0.0,
+        },
+        Settings::default(),
+        0,
+        10.0,
+        Default::default(),
+    )
+}
+
+#[test]
+fn a_grain_that_leaves_the_box_or_the_numbers_is_named() {
+    let w = lone(Vec2::new(0.0, 5.0), Vec2::new(0.0, 5.0));
+    assert_eq!((w.first_outside(), w.first_not_finite()), (None, None));
+    let w = lone(Vec2::new(4.5, 5.0), Vec2::new(4.5, 5.0));
+    assert_eq!(w.first_outside(), Some(0));
+    let w = lone(Vec2::new(0.0, -0.5), Vec2::new(0.0, -0.5));
+    assert_eq!(w.first_outside(), Some(0));
+    let mut w = lone(Vec2::new(0.0, 5.0), Vec2::new(0.0, 5.0));
+    w.bodies[0].center.y = f64::NAN;
+    assert_eq!(w.first_not_finite(), Some(0));
+    assert_eq!(w.first_outside(), Some(0));
+}
