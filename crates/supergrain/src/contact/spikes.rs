@@ -90,6 +90,7 @@ fn clip(a: Vec2, b: Vec2, region: &Aabb) -> Option<(f64, f64)> {
 
 /// Branch and bound along one half-axis: a piece whose box is proven outside `other` is
 /// dropped; the rest are halved `levels` times and their midpoints tried.
+#[allow(clippy::too_many_arguments)] // one recursion's state, passed down as it is
 fn search(
     own: &PlacedSuperellipse,
     other: &PlacedSuperellipse,

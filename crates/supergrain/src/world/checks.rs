@@ -174,7 +174,9 @@ pub fn depth_outside(walls: &Walls, b: &Aabb) -> f64 {
 /// Names the scene field a [`ShapeError`] is about.
 pub fn shape_field(error: &ShapeError, circles: bool, same_exponents: bool) -> &'static str {
     let name = match error {
-        ShapeError::NotPositive { name, .. } | ShapeError::NotFinite { name, .. } => *name,
+        ShapeError::NotPositive { name, .. }
+        | ShapeError::NotFinite { name, .. }
+        | ShapeError::OutOfRange { name, .. } => *name,
         ShapeError::BadDirection { name, .. } => name,
     };
     let exponent = name.contains("exponent");
