@@ -15,7 +15,10 @@ mod superellipse_wall;
 pub use certified::WarmStart;
 pub use disk_disk::disk_disk;
 pub use ray::{ray_to_boundary, ray_to_convex_boundary};
-pub use superellipse_superellipse::{contact, contact_quadtree, contact_warm, contact_with_cells};
+pub use superellipse_superellipse::{
+    contact, contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints,
+    contact_with_cells,
+};
 pub use superellipse_wall::{contact_wall, contact_wall_quadtree, contact_wall_with_cells};
 
 use crate::geometry::Vec2;

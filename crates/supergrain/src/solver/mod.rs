@@ -14,8 +14,8 @@ pub use response::{project, safe_push};
 
 use crate::broad_phase::BroadPhase;
 use crate::contact::{
-    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_quadtree, contact_wall,
-    contact_wall_quadtree, contact_warm, disk_disk,
+    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_quadtree_midpoints,
+    contact_wall, contact_wall_quadtree, contact_warm_midpoints, disk_disk,
 };
 use crate::geometry::{Aabb, Vec2};
 use crate::shape::{HalfPlane, Pose, Superellipse};
@@ -245,7 +245,7 @@ fn grain_contact_at(
     match settings.narrow_phase {
         NarrowPhase::Interval => {
             let mut cold = None;
-            contact_warm(
+            contact_warm_midpoints(
                 &a.shape,
                 pose_a,
                 &b.shape,
@@ -254,7 +254,7 @@ fn grain_contact_at(
                 warm.unwrap_or(&mut cold),
             )
         }
-        NarrowPhase::Quadtree => contact_quadtree(
+        NarrowPhase::Quadtree => contact_quadtree_midpoints(
             &a.shape,
             pose_a,
             &b.shape,
