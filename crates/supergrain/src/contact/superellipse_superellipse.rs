@@ -50,12 +50,14 @@ pub fn contact_warm(
     certified_or_quadtree(a, pose_a, b, pose_b, precision, warm, Spikes::Searched)
 }
 
-/// [`contact_warm`] as the paper's projection uses it: when the quadtree answers, its
-/// midpoints alone, without the half-axis search of [`super::spikes`]. That search makes every
-/// answer of [`contact_warm`] sound, but the projection's star pushes are not yet fit for the
-/// contacts it adds: the mixed preset (Fig. 13) rested at about step 10,000 instead of 2,500,
-/// at 16 steps/s instead of 40 (issue 19 rebuilds the star contacts). A pair this reports
-/// apart may have a spike thinner than a cell reaching into the other.
+/// [`contact_warm`] as the paper's projection uses it: when the quadtree answers, the paper's
+/// answer, from its midpoints alone, with the paper's pushes (no half-axis search of
+/// [`super::spikes`], no pushes made to separate by [`super::push`]). Those make every answer
+/// of [`contact_warm`] sound, but the projection is not yet fit for them on stars: the mixed
+/// preset (Fig. 13, grains every 5 steps) no longer rested within 4,000 steps (at about step
+/// 10,000 with both, at 16 steps/s instead of 40; the pushes alone were enough to keep it
+/// moving). Issue 19 rebuilds the star contacts. A pair this reports apart may have a spike
+/// thinner than a cell reaching into the other.
 pub fn contact_warm_midpoints(
     a: &Superellipse,
     pose_a: &Pose,
@@ -244,7 +246,11 @@ fn quadtree<S: CellSink + ?Sized>(
     // A few ulps of the world coordinates the points are reported in: a point moved by the
     // searches is proven inside over a box this wide about it ([`spike_witness`]).
     let scale = pose_a.center().norm() + region.min.norm().max(region.max.norm());
-    let slack = 8.0 * f64::EPSILON * scale;
+    let slack = if spikes == Spikes::Searched {
+        8.0 * f64::EPSILON * scale
+    } else {
+        0.0
+    };
     if spikes == Spikes::Searched && (in_a.is_none() || in_b.is_none()) {
         let cell = precision.cell_size(region);
         in_a = deeper(in_a, spike_witness(local_a, local_b, region, cell, slack));
@@ -262,8 +268,12 @@ fn quadtree<S: CellSink + ?Sized>(
             let a1 = polish(local_a, local_b, a1, slack);
             let a2 = polish(local_b, local_a, a2, slack);
             let (a_push, b_push) = (push_out(local_b, a1), push_out(local_a, a2));
-            let (a_push, b_push) =
-                separating(local_a, local_b, a1, a2, a_push, b_push).unwrap_or((a_push, b_push));
+            let (a_push, b_push) = match spikes {
+                Spikes::Searched => {
+                    separating(local_a, local_b, a1, a2, a_push, b_push).unwrap_or((a_push, b_push))
+                }
+                Spikes::Skipped => (a_push, b_push),
+            };
             Some(Penetration {
                 a_deepest: pose_a.to_world(a1),
                 b_deepest: pose_a.to_world(a2),
@@ -307,14 +317,18 @@ fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2, sla
     let inside = point + (on_boundary - point) * (1.0 - 1e-9);
     // And only when it is at least as deep: on a thin shape the gradient may lead to the far
     // side, away from `other`'s centre.
-    let around = Aabb::new(
-        inside - Vec2::new(slack, slack),
-        inside + Vec2::new(slack, slack),
-    );
-    if own.enclose(&around).hi < 0.0
-        && other.enclose(&around).hi < 0.0
-        && other.value(inside) <= other.value(point)
-    {
+    let proven_in = |shape: &PlacedSuperellipse| {
+        if slack == 0.0 {
+            shape.enclose_point(inside).hi < 0.0
+        } else {
+            let around = Aabb::new(
+                inside - Vec2::new(slack, slack),
+                inside + Vec2::new(slack, slack),
+            );
+            shape.enclose(&around).hi < 0.0
+        }
+    };
+    if proven_in(own) && proven_in(other) && other.value(inside) <= other.value(point) {
         inside
     } else {
         point
