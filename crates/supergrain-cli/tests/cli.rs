@@ -443,7 +443,7 @@ fn missing_or_out_of_range_flags_are_rejected() {
             "--b",
             B_CIRCLE_19,
             "--depth",
-            "41",
+            "17",
         ],
         vec![
             "contact",
@@ -479,7 +479,7 @@ fn missing_or_out_of_range_flags_are_rejected() {
             "--b",
             B_CIRCLE_19,
             "--depth",
-            "40",
+            "16",
             "--eps",
             "0.01",
         ],
