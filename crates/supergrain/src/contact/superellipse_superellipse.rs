@@ -47,7 +47,7 @@ pub fn contact_warm(
     precision: &Precision,
     warm: &mut Option<WarmStart>,
 ) -> Contact {
-    certified_or_quadtree(a, pose_a, b, pose_b, precision, warm, Spikes::Searched)
+    certified_or_quadtree(a, pose_a, b, pose_b, precision, warm, Answer::Sound)
 }
 
 /// [`contact_warm`] as the paper's projection uses it: when the quadtree answers, the paper's
@@ -66,14 +66,17 @@ pub fn contact_warm_midpoints(
     precision: &Precision,
     warm: &mut Option<WarmStart>,
 ) -> Contact {
-    certified_or_quadtree(a, pose_a, b, pose_b, precision, warm, Spikes::Skipped)
+    certified_or_quadtree(a, pose_a, b, pose_b, precision, warm, Answer::Paper)
 }
 
-/// Whether the quadtree's answer adds the half-axis search ([`super::spikes`]).
+/// What the quadtree's answer is made of.
 #[derive(Clone, Copy, PartialEq)]
-enum Spikes {
-    Searched,
-    Skipped,
+enum Answer {
+    /// Sound for every shape: the half-axis search ([`super::spikes`]), pushes made to separate
+    /// ([`super::push`]), moved points proven over a box of a few ulps.
+    Sound,
+    /// The paper's, for the projection ([`contact_warm_midpoints`]).
+    Paper,
 }
 
 fn certified_or_quadtree(
@@ -83,10 +86,10 @@ fn certified_or_quadtree(
     pose_b: &Pose,
     precision: &Precision,
     warm: &mut Option<WarmStart>,
-    spikes: Spikes,
+    answer: Answer,
 ) -> Contact {
     if !certified::eligible(a, b) {
-        return cells_and_contact(a, pose_a, b, pose_b, precision, &mut (), spikes);
+        return cells_and_contact(a, pose_a, b, pose_b, precision, &mut (), answer);
     }
     let Some((local_a, local_b, region)) = frame(a, pose_a, b, pose_b) else {
         return Contact {
@@ -142,7 +145,7 @@ fn certified_or_quadtree(
             &region,
             precision,
             &mut (),
-            spikes,
+            answer,
         ),
     }
 }
@@ -168,7 +171,7 @@ pub fn contact_quadtree_midpoints(
     pose_b: &Pose,
     precision: &Precision,
 ) -> Contact {
-    cells_and_contact(a, pose_a, b, pose_b, precision, &mut (), Spikes::Skipped)
+    cells_and_contact(a, pose_a, b, pose_b, precision, &mut (), Answer::Paper)
 }
 
 /// [`contact_quadtree`], handing every classified cell to `sink`. The quadtree runs in A's local
@@ -181,7 +184,7 @@ pub fn contact_with_cells<S: CellSink + ?Sized>(
     precision: &Precision,
     sink: &mut S,
 ) -> Contact {
-    cells_and_contact(a, pose_a, b, pose_b, precision, sink, Spikes::Searched)
+    cells_and_contact(a, pose_a, b, pose_b, precision, sink, Answer::Sound)
 }
 
 fn cells_and_contact<S: CellSink + ?Sized>(
@@ -191,11 +194,11 @@ fn cells_and_contact<S: CellSink + ?Sized>(
     pose_b: &Pose,
     precision: &Precision,
     sink: &mut S,
-    spikes: Spikes,
+    answer: Answer,
 ) -> Contact {
     match frame(a, pose_a, b, pose_b) {
         Some((local_a, local_b, region)) => {
-            quadtree(pose_a, &local_a, &local_b, &region, precision, sink, spikes)
+            quadtree(pose_a, &local_a, &local_b, &region, precision, sink, answer)
         }
         None => Contact {
             penetration: None,
@@ -235,23 +238,22 @@ fn quadtree<S: CellSink + ?Sized>(
     region: &Aabb,
     precision: &Precision,
     sink: &mut S,
-    spikes: Spikes,
+    answer: Answer,
 ) -> Contact {
     let found = deepest_points(local_a, local_b, region, precision, true, sink);
     let (mut in_a, mut in_b) = (found.in_a, found.in_b);
-    // Spikes thinner than a cell are searched along the half-axes ([`super::spikes`]): always
-    // for stars (whose deepest points lie in their spikes), and for any shape when the
-    // midpoints proved nothing, which makes "no overlap" mean within a few final cells of
-    // touching for every shape (`spikes` module docs: four, at most).
     // A few ulps of the world coordinates the points are reported in: a point moved by the
     // searches is proven inside over a box this wide about it ([`spike_witness`]).
     let scale = pose_a.center().norm() + region.min.norm().max(region.max.norm());
-    let slack = if spikes == Spikes::Searched {
+    let slack = if answer == Answer::Sound {
         8.0 * f64::EPSILON * scale
     } else {
         0.0
     };
-    if spikes == Spikes::Searched && (in_a.is_none() || in_b.is_none()) {
+    // Spikes thinner than a cell are searched along the half-axes ([`super::spikes`]) when
+    // the midpoints proved nothing, which makes "no overlap" mean within four final cells of
+    // touching for every shape.
+    if answer == Answer::Sound && (in_a.is_none() || in_b.is_none()) {
         let cell = precision.cell_size(region);
         in_a = deeper(in_a, spike_witness(local_a, local_b, region, cell, slack));
         in_b = deeper(in_b, spike_witness(local_b, local_a, region, cell, slack));
@@ -268,11 +270,11 @@ fn quadtree<S: CellSink + ?Sized>(
             let a1 = polish(local_a, local_b, a1, slack);
             let a2 = polish(local_b, local_a, a2, slack);
             let (a_push, b_push) = (push_out(local_b, a1), push_out(local_a, a2));
-            let (a_push, b_push) = match spikes {
-                Spikes::Searched => {
+            let (a_push, b_push) = match answer {
+                Answer::Sound => {
                     separating(local_a, local_b, a1, a2, a_push, b_push).unwrap_or((a_push, b_push))
                 }
-                Spikes::Skipped => (a_push, b_push),
+                Answer::Paper => (a_push, b_push),
             };
             Some(Penetration {
                 a_deepest: pose_a.to_world(a1),

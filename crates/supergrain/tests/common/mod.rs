@@ -64,30 +64,11 @@ impl Shape {
         let n = 256;
         for i in 0..n {
             let (t0, t1) = (i as f64 * TAU / n as f64, (i + 1) as f64 * TAU / n as f64);
-            self.refine(t0, self.boundary(t0), t1, self.boundary(t1), h, 0, &mut out);
+            let curve = |t| self.boundary(t);
+            let ends = ((t0, self.boundary(t0)), (t1, self.boundary(t1)));
+            refine_by_chord(&curve, ends, h, 41, &mut out);
         }
         out
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn refine(
-        &self,
-        t0: f64,
-        p0: [f64; 2],
-        t1: f64,
-        p1: [f64; 2],
-        h: f64,
-        depth: u32,
-        out: &mut Vec<[f64; 2]>,
-    ) {
-        if dist(p0, p1) <= h || depth > 40 {
-            out.push(p0);
-            return;
-        }
-        let tm = 0.5 * (t0 + t1);
-        let pm = self.boundary(tm);
-        self.refine(t0, p0, tm, pm, h, depth + 1, out);
-        self.refine(tm, pm, t1, p1, h, depth + 1, out);
     }
 }
 
@@ -109,7 +90,13 @@ impl Shape {
             let n = 64;
             for i in 0..n {
                 let (t0, t1) = (i as f64 / n as f64, (i + 1) as f64 / n as f64);
-                refine_graph(graph, t0, graph(t0), t1, graph(t1), h, 0, &mut quarter);
+                refine_by_chord(
+                    graph,
+                    ((t0, graph(t0)), (t1, graph(t1))),
+                    h,
+                    61,
+                    &mut quarter,
+                );
             }
             quarter.push(graph(1.0));
         }
@@ -123,25 +110,26 @@ impl Shape {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn refine_graph(
-    graph: &dyn Fn(f64) -> [f64; 2],
-    t0: f64,
-    p0: [f64; 2],
-    t1: f64,
-    p1: [f64; 2],
+/// Two parameters of a curve and its points there.
+type Ends = ((f64, [f64; 2]), (f64, [f64; 2]));
+
+/// Points of `curve` from `t0` towards `t1` (`t1` excluded), halving the parameter where the
+/// chord between neighbours is longer than `h`, at most `levels` times.
+fn refine_by_chord(
+    curve: &dyn Fn(f64) -> [f64; 2],
+    ((t0, p0), (t1, p1)): Ends,
     h: f64,
-    depth: u32,
+    levels: u32,
     out: &mut Vec<[f64; 2]>,
 ) {
-    if dist(p0, p1) <= h || depth > 60 {
+    if dist(p0, p1) <= h || levels == 0 {
         out.push(p0);
         return;
     }
     let tm = 0.5 * (t0 + t1);
-    let pm = graph(tm);
-    refine_graph(graph, t0, p0, tm, pm, h, depth + 1, out);
-    refine_graph(graph, tm, pm, t1, p1, h, depth + 1, out);
+    let pm = curve(tm);
+    refine_by_chord(curve, ((t0, p0), (tm, pm)), h, levels - 1, out);
+    refine_by_chord(curve, ((tm, pm), (t1, p1)), h, levels - 1, out);
 }
 
 pub fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
