@@ -224,6 +224,7 @@ impl Sim {
             spawn_count: 1,
             settings: world.settings,
             groups: Vec::new(),
+            wall_material: world.wall_material,
         };
         let mut sim = Sim::new(
             Source::State {

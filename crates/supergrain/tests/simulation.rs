@@ -252,6 +252,7 @@ fn a_deep_heap_rests_with_shock_propagation() {
         exponents,
         same_exponents: true,
         angle: Range::new(0.0, TAU),
+        material: Default::default(),
     };
     scene.groups = vec![
         group(
@@ -332,6 +333,7 @@ fn random_scene(seed: u64, kinds: Vec<(u32, u8)>, width: f64) -> Scene {
                 exponents,
                 same_exponents: same,
                 angle: Range::new(0.0, TAU),
+                material: Default::default(),
             }
         })
         .collect();

@@ -117,6 +117,18 @@ pub struct WarmStart {
     a2: Option<Vec2>,
 }
 
+impl WarmStart {
+    /// Its points (in A's frame): where Newton found `A1` and, if it got there, `A2`. For a
+    /// dump: a run resumed with them goes on bit for bit.
+    pub fn to_parts(&self) -> (Vec2, Option<Vec2>) {
+        (self.a1, self.a2)
+    }
+
+    pub fn from_parts(a1: Vec2, a2: Option<Vec2>) -> Self {
+        WarmStart { a1, a2 }
+    }
+}
+
 enum Deepest {
     /// No point of `own` lies in `other` deeper than half a final cell.
     Beyond,

@@ -6,6 +6,7 @@
 
 mod certified;
 mod disk_disk;
+pub mod manifold;
 mod push;
 mod ray;
 mod spikes;

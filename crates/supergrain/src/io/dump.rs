@@ -8,9 +8,11 @@ use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
 use crate::broad_phase::Kind as BroadPhaseKind;
+use crate::contact::WarmStart;
 use crate::geometry::Vec2;
 use crate::shape::{Pose, ShapeError, Superellipse};
-use crate::solver::{Body, NarrowPhase, Rotation, Settings, Walls};
+use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings};
+use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
 use crate::world::{Pending, Touch, World, checks};
 
@@ -52,10 +54,103 @@ pub struct ParticleJson {
     /// The scene group, counted from 0 in the scene's order; absent: 0.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub group: u32,
+    /// Radians per second (the soft step's state); absent: 0.
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub angular_velocity: f64,
 }
 
 fn is_zero(n: &u32) -> bool {
     *n == 0
+}
+
+fn is_zero_f64(x: &f64) -> bool {
+    *x == 0.0
+}
+
+/// A material (see [`Material`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialJson {
+    pub density: f64,
+    pub friction: f64,
+    pub restitution: f64,
+    pub rolling_resistance: f64,
+}
+
+impl From<&Material> for MaterialJson {
+    fn from(m: &Material) -> Self {
+        MaterialJson {
+            density: m.density,
+            friction: m.friction,
+            restitution: m.restitution,
+            rolling_resistance: m.rolling_resistance,
+        }
+    }
+}
+
+impl MaterialJson {
+    fn to_material(&self, what: &str) -> Result<Material, DumpError> {
+        let bad = |field: &str, v: f64| {
+            DumpError::Solver(format!("{what}: {field} is out of range, got {v}"))
+        };
+        let m = Material {
+            density: self.density,
+            friction: self.friction,
+            restitution: self.restitution,
+            rolling_resistance: self.rolling_resistance,
+        };
+        if !(m.density.is_finite() && m.density > 0.0) {
+            return Err(bad("density", m.density));
+        }
+        if !(m.friction.is_finite() && m.friction >= 0.0) {
+            return Err(bad("friction", m.friction));
+        }
+        if !(0.0..=1.0).contains(&m.restitution) {
+            return Err(bad("restitution", m.restitution));
+        }
+        if !(m.rolling_resistance.is_finite() && m.rolling_resistance >= 0.0) {
+            return Err(bad("rolling_resistance", m.rolling_resistance));
+        }
+        Ok(m)
+    }
+}
+
+/// The soft step's settings (see [`SoftSettings`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SoftJson {
+    pub substeps: u32,
+    pub contact_hertz: f64,
+    pub damping_ratio: f64,
+    pub push_out: f64,
+    pub restitution_threshold: f64,
+    pub slop: f64,
+    pub linear_damping: f64,
+    pub angular_damping: f64,
+}
+
+/// A contact the soft step keeps from one step to the next: its impulses (the next step's
+/// warm start) and where the narrow phase found its deepest points, so that a resumed run goes
+/// on bit for bit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactJson {
+    /// The grains, or a grain and `wall` (0 left, 1 right, 2 floor; planes are not in dumps
+    /// yet).
+    pub a: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub b: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_impulse: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangent_impulse: Option<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub rolling_impulse: f64,
+    /// Newton's last points for the pair, in A's frame: `[A1]` or `[A1, A2]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warm: Vec<[f64; 2]>,
 }
 
 /// A grain that has not appeared yet.
@@ -99,6 +194,11 @@ pub struct SolverJson {
     /// "grid" or "all-pairs"; absent: "grid" (the results are the same).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub broad_phase: Option<String>,
+    /// "paper" or "soft"; absent: "paper".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub soft: Option<SoftJson>,
 }
 
 /// A whole dump.
@@ -117,6 +217,14 @@ pub struct Dump {
     pub solver: Option<SolverJson>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pending: Vec<PendingJson>,
+    /// Each group's material (the soft step's), by group; absent: the default material.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub materials: Vec<MaterialJson>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_material: Option<MaterialJson>,
+    /// The soft step's contacts kept for the next step.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub contacts: Vec<ContactJson>,
 }
 
 /// Why a dump cannot be resumed.
@@ -176,6 +284,7 @@ impl Dump {
                             .then(|| b.drift_anchor.to_array()),
                         waiting: b.waiting,
                         group: b.group,
+                        angular_velocity: b.angular_velocity,
                     }
                 })
                 .collect(),
@@ -211,6 +320,20 @@ impl Dump {
                     }
                     .into(),
                 ),
+                model: (s.model == Model::Soft).then(|| "soft".into()),
+                soft: (s.model == Model::Soft).then(|| {
+                    let k = &s.soft;
+                    SoftJson {
+                        substeps: k.substeps,
+                        contact_hertz: k.contact_hertz,
+                        damping_ratio: k.damping_ratio,
+                        push_out: k.push_out,
+                        restitution_threshold: k.restitution_threshold,
+                        slop: k.slop,
+                        linear_damping: k.linear_damping,
+                        angular_damping: k.angular_damping,
+                    }
+                }),
             }),
             pending: world
                 .pending
@@ -224,6 +347,17 @@ impl Dump {
                     group: p.group,
                 })
                 .collect(),
+            materials: if s.model == Model::Soft {
+                world.materials.iter().map(MaterialJson::from).collect()
+            } else {
+                Vec::new()
+            },
+            wall_material: (s.model == Model::Soft).then(|| (&world.wall_material).into()),
+            contacts: if s.model == Model::Soft {
+                kept_contacts(world)
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -293,6 +427,38 @@ impl Dump {
                         )));
                     }
                 },
+                model: match s.model.as_deref() {
+                    None | Some("paper") => Model::Paper,
+                    Some("soft") => Model::Soft,
+                    Some(other) => {
+                        return Err(DumpError::Solver(format!(
+                            "model must be paper or soft, got {other}"
+                        )));
+                    }
+                },
+                soft: match &s.soft {
+                    None => SoftSettings::default(),
+                    Some(k) => SoftSettings {
+                        substeps: if (1..=64).contains(&k.substeps) {
+                            k.substeps
+                        } else {
+                            return Err(DumpError::Solver(format!(
+                                "soft.substeps must be 1 to 64, got {}",
+                                k.substeps
+                            )));
+                        },
+                        contact_hertz: positive("soft.contact_hertz", k.contact_hertz)?,
+                        damping_ratio: non_negative("soft.damping_ratio", k.damping_ratio)?,
+                        push_out: positive("soft.push_out", k.push_out)?,
+                        restitution_threshold: non_negative(
+                            "soft.restitution_threshold",
+                            k.restitution_threshold,
+                        )?,
+                        slop: non_negative("soft.slop", k.slop)?,
+                        linear_damping: non_negative("soft.linear_damping", k.linear_damping)?,
+                        angular_damping: non_negative("soft.angular_damping", k.angular_damping)?,
+                    },
+                },
             },
         };
         let walls = Walls {
@@ -321,6 +487,16 @@ impl Dump {
                 drift_anchor: p.drift_anchor.map_or(pose.center(), Vec2::from),
                 waiting: p.waiting,
                 group: p.group,
+                velocity: if settings.model == Model::Soft {
+                    v
+                } else {
+                    Vec2::ZERO
+                },
+                angular_velocity: if settings.model == Model::Soft {
+                    p.angular_velocity
+                } else {
+                    0.0
+                },
             };
             if !body.is_finite() || !v.is_finite() {
                 return Err(DumpError::NotFinite(index));
@@ -384,7 +560,68 @@ impl Dump {
             checks::check_time_step(&settings, top - w.floor, smallest)
                 .map_err(DumpError::Unworkable)?;
         }
+        let materials = self
+            .materials
+            .iter()
+            .enumerate()
+            .map(|(g, m)| m.to_material(&format!("materials[{g}]")))
+            .collect::<Result<Vec<_>, _>>()?;
+        let wall_material = match &self.wall_material {
+            None => Material::default(),
+            Some(m) => m.to_material("wall_material")?,
+        };
+        let n = bodies.len();
         let mut world = World::from_parts(bodies, walls, settings, self.step, top, pending);
+        world.materials = materials;
+        world.wall_material = wall_material;
+        for (index, c) in self.contacts.iter().enumerate() {
+            let bad = |why: &str| DumpError::Solver(format!("contacts[{index}]: {why}"));
+            let key = match (c.b, c.wall) {
+                (Some(b), None) if c.a < b && b < n => (c.a, b),
+                (None, Some(w)) if c.a < n && w < 3 => (c.a, STATIC - w),
+                _ => return Err(bad("needs grains a < b, or a grain a and a wall 0 to 2")),
+            };
+            let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
+            let normal = c.normal_impulse.unwrap_or_default();
+            let tangent = c.tangent_impulse.unwrap_or_default();
+            if !(finite(&normal) && finite(&tangent) && c.rolling_impulse.is_finite())
+                || normal.iter().any(|&x| x < 0.0)
+            {
+                return Err(bad("impulses must be finite, normal ones >= 0"));
+            }
+            world.soft.kept.insert(
+                key,
+                Kept {
+                    normal,
+                    tangent,
+                    rolling: c.rolling_impulse,
+                },
+            );
+            let point = |p: &[f64; 2]| {
+                let v = Vec2::from(*p);
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(bad("warm points must be finite"))
+                }
+            };
+            match c.warm.as_slice() {
+                [] => {}
+                [a1] => {
+                    world
+                        .soft
+                        .warm
+                        .insert(key, WarmStart::from_parts(point(a1)?, None));
+                }
+                [a1, a2] => {
+                    world
+                        .soft
+                        .warm
+                        .insert(key, WarmStart::from_parts(point(a1)?, Some(point(a2)?)));
+                }
+                _ => return Err(bad("warm holds one or two points")),
+            }
+        }
         // The velocities the dump reports stay the world's until its next step.
         world.set_velocities(&velocities);
         let mut deep = None;
@@ -407,6 +644,41 @@ impl Dump {
         }
         Ok(world)
     }
+}
+
+/// The soft step's kept contacts, in the order of their pairs (a dump is the same for the same
+/// state).
+fn kept_contacts(world: &World) -> Vec<ContactJson> {
+    let soft = &world.soft;
+    let mut keys: Vec<_> = soft.kept.keys().chain(soft.warm.keys()).copied().collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys.into_iter()
+        .map(|key| {
+            let (a, j) = key;
+            let (b, wall) = if j > STATIC - MAX_WALLS {
+                (None, Some(STATIC - j))
+            } else {
+                (Some(j), None)
+            };
+            let kept = soft.kept.get(&key);
+            let nonzero = |x: [f64; 3]| (x != [0.0; 3]).then_some(x);
+            ContactJson {
+                a,
+                b,
+                wall,
+                normal_impulse: kept.and_then(|k| nonzero(k.normal)),
+                tangent_impulse: kept.and_then(|k| nonzero(k.tangent)),
+                rolling_impulse: kept.map_or(0.0, |k| k.rolling),
+                warm: soft.warm.get(&key).map_or(Vec::new(), |w| {
+                    let (a1, a2) = w.to_parts();
+                    std::iter::once(a1.to_array())
+                        .chain(a2.map(Vec2::to_array))
+                        .collect()
+                }),
+            }
+        })
+        .collect()
 }
 
 fn non_negative(name: &str, v: f64) -> Result<f64, DumpError> {

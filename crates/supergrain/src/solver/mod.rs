@@ -8,6 +8,7 @@
 //! over all grains (or, for deep heaps, one shock-propagation sweep from the floor up), and
 //! deeper quadtrees for walls and for pairs with a star.
 mod response;
+pub mod soft;
 pub mod strips;
 
 pub use response::{project, safe_push};
@@ -43,8 +44,13 @@ pub struct Body {
     /// Steps the grain has been ready to sleep while a neighbour was not (see `update_sleep`).
     pub waiting: u32,
     /// The scene group the grain came from, counted from 0 in the scene's order (0 for grains
-    /// made otherwise). The solver ignores it; pictures can colour by it.
+    /// made otherwise). The paper's solver ignores it; the soft step takes the group's
+    /// material; pictures can colour by it.
     pub group: u32,
+    /// Linear and angular velocity: state of the soft step ([`Model::Soft`]); the paper's
+    /// Verlet keeps velocity implicit and leaves these at 0.
+    pub velocity: Vec2,
+    pub angular_velocity: f64,
 }
 
 impl Body {
@@ -61,6 +67,8 @@ impl Body {
             drift_anchor: pose.center(),
             waiting: 0,
             group: 0,
+            velocity: Vec2::ZERO,
+            angular_velocity: 0.0,
         }
     }
 
@@ -82,6 +90,8 @@ impl Body {
             && self.angle.is_finite()
             && self.previous_center.is_finite()
             && self.previous_angle.is_finite()
+            && self.velocity.is_finite()
+            && self.angular_velocity.is_finite()
     }
 }
 
@@ -110,6 +120,17 @@ pub enum Rotation {
     Projection,
     /// Verlet on the angle too: a grain turned by a collision keeps turning, damped.
     Inertia,
+}
+
+/// Which dynamics steps the grains.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Model {
+    /// The paper's: Verlet with damping, unit masses, projection of the overlaps (this module).
+    #[default]
+    Paper,
+    /// Rigid grains with mass, friction, restitution and rolling resistance, contacts found once
+    /// per step and solved with substeps as soft constraints ([`soft`]).
+    Soft,
 }
 
 /// Which narrow phase answers grain-grain and grain-wall contact.
@@ -163,6 +184,10 @@ pub struct Settings {
     /// (see [`strips`]); 0, or a box narrower than [`strips::MIN_STRIPS`] strips, keeps the
     /// paper's order, one grain after another. Results never depend on the number of threads.
     pub strip_width: f64,
+    /// Which dynamics: the paper's projection or the soft step.
+    pub model: Model,
+    /// The soft step's settings (unused by the paper's model).
+    pub soft: soft::SoftSettings,
 }
 
 impl Default for Settings {
@@ -181,6 +206,8 @@ impl Default for Settings {
             narrow_phase: NarrowPhase::Interval,
             broad_phase: crate::broad_phase::Kind::Grid,
             strip_width: 0.0,
+            model: Model::Paper,
+            soft: soft::SoftSettings::default(),
         }
     }
 }

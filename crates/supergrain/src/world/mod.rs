@@ -16,9 +16,10 @@ use rand_chacha::ChaCha8Rng;
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
-use crate::shape::{Pose, Superellipse};
+use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::solver::soft::{self, Material, SoftWorkspace};
 use crate::solver::{
-    self, Body, Settings, StepStats, Stopped, Walls, Workspace, grain_contact, wall_contact,
+    self, Body, Model, Settings, StepStats, Stopped, Walls, Workspace, grain_contact, wall_contact,
 };
 
 /// A grain waiting to appear: its shape and pose are drawn when the world is made, so a run
@@ -45,6 +46,15 @@ pub struct World {
     /// Height at which grains appear.
     pub top: f64,
     pub pending: VecDeque<Pending>,
+    /// Each scene group's material, by [`Body::group`] (the soft step's; see
+    /// [`soft::Material`]).
+    pub materials: Vec<Material>,
+    pub wall_material: Material,
+    /// Walls at any angle besides the box's three (inclined planes), of the wall material;
+    /// the soft step's (the paper's projection has the box alone).
+    pub planes: Vec<HalfPlane>,
+    /// The soft step's contacts kept from step to step, and its buffers.
+    pub soft: SoftWorkspace,
     /// Where each grain was when the last step began (see [`World::velocity`]).
     step_start: Vec<Vec2>,
     broad: AnyBroadPhase,
@@ -130,6 +140,10 @@ impl World {
             step: 0,
             top: scene.top,
             pending,
+            materials: scene.groups.iter().map(|g| g.material).collect(),
+            wall_material: scene.wall_material,
+            planes: Vec::new(),
+            soft: SoftWorkspace::default(),
             step_start: Vec::new(),
             broad: AnyBroadPhase::new(scene.settings.broad_phase),
             work: Workspace::default(),
@@ -154,6 +168,10 @@ impl World {
             step,
             top,
             pending,
+            materials: Vec::new(),
+            wall_material: Material::default(),
+            planes: Vec::new(),
+            soft: SoftWorkspace::default(),
             broad: AnyBroadPhase::new(settings.broad_phase),
             work: Workspace::default(),
             undo: Undo::default(),
@@ -200,15 +218,28 @@ impl World {
         self.spawn();
         self.step_start.clear();
         self.step_start.extend(self.bodies.iter().map(|b| b.center));
-        let stats = solver::step_or_stop(
-            &mut self.bodies,
-            &self.walls,
-            &self.settings,
-            &mut self.broad,
-            &mut self.work,
-            self.step,
-            stop,
-        )?;
+        let stats = match self.settings.model {
+            Model::Paper => solver::step_or_stop(
+                &mut self.bodies,
+                &self.walls,
+                &self.settings,
+                &mut self.broad,
+                &mut self.work,
+                self.step,
+                stop,
+            )?,
+            Model::Soft => soft::step_or_stop(
+                &mut self.bodies,
+                &self.walls,
+                &self.planes,
+                &self.materials,
+                &self.wall_material,
+                &self.settings,
+                &mut self.broad,
+                &mut self.soft,
+                stop,
+            )?,
+        };
         self.step += 1;
         Ok(stats)
     }
@@ -287,6 +318,10 @@ impl World {
     /// grain resting in a heap is pushed down by those handled before it and back up after its
     /// own update, and that internal back-and-forth would read as motion.
     pub fn velocity(&self, i: usize) -> Vec2 {
+        if self.settings.model == Model::Soft {
+            // The soft step's velocity is state.
+            return self.bodies[i].velocity;
+        }
         let start = self
             .step_start
             .get(i)

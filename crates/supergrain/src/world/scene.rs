@@ -10,7 +10,8 @@ use serde::{Deserialize, Serialize};
 use super::checks;
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::shape::Superellipse;
-use crate::solver::{NarrowPhase, Rotation, Settings, Walls};
+use crate::solver::soft::{Material, SoftSettings};
+use crate::solver::{Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
 /// A closed range `[lo, hi]` of values drawn uniformly, or one fixed value (`lo == hi`).
@@ -42,6 +43,8 @@ pub struct Group {
     /// Both exponents from one draw (squircles), or independent (the mixed preset).
     pub same_exponents: bool,
     pub angle: Range,
+    /// What the grains are made of (the soft step's; the paper's model ignores it).
+    pub material: Material,
 }
 
 impl Group {
@@ -100,6 +103,8 @@ pub struct Scene {
     pub spawn_count: u32,
     pub settings: Settings,
     pub groups: Vec<Group>,
+    /// What the walls are made of (the soft step's).
+    pub wall_material: Material,
 }
 
 /// The paper's four scenes.
@@ -136,6 +141,7 @@ impl Scene {
             exponents,
             same_exponents,
             angle,
+            material: Material::default(),
         };
         let two = [Range::fixed(2.0); 2];
         let g = match name {
@@ -179,6 +185,7 @@ impl Scene {
                 ..Settings::default()
             },
             groups: vec![g],
+            wall_material: Material::default(),
         })
     }
 
@@ -261,7 +268,35 @@ impl Scene {
             },
             // Set below, from the groups unless given.
             strip_width: 0.0,
+            model: match s.model {
+                None => defaults.model,
+                Some(ModelSpec::Paper) => Model::Paper,
+                Some(ModelSpec::Soft) => Model::Soft,
+            },
+            soft: {
+                let d = defaults.soft;
+                SoftSettings {
+                    substeps: s.substeps.as_ref().map_or(d.substeps, |v| *v.get_ref()),
+                    contact_hertz: s.contact_hertz.map_or(d.contact_hertz, |v| v.0),
+                    damping_ratio: s.damping_ratio.map_or(d.damping_ratio, |v| v.0),
+                    push_out: s.push_out.map_or(d.push_out, |v| v.0),
+                    restitution_threshold: s
+                        .restitution_threshold
+                        .map_or(d.restitution_threshold, |v| v.0),
+                    slop: s.slop.map_or(d.slop, |v| v.0),
+                    linear_damping: s.linear_damping.map_or(d.linear_damping, |v| v.0),
+                    angular_damping: s.angular_damping.map_or(d.angular_damping, |v| v.0),
+                }
+            },
         };
+        if let Some(n) = &s.substeps
+            && !(1..=64).contains(n.get_ref())
+        {
+            return Err(invalid(
+                n.span(),
+                format!("solver: substeps must be 1 to 64, got {}", n.get_ref()),
+            ));
+        }
         let mut groups = Vec::new();
         for (k, g) in file.groups.iter().enumerate() {
             let name = g.name.clone().unwrap_or_else(|| format!("group {}", k + 1));
@@ -309,6 +344,7 @@ impl Scene {
                 exponents,
                 same_exponents,
                 angle: g.angle.map_or(Range::new(0.0, TAU), |a| a.0),
+                material: material(g.density, g.friction, g.restitution, g.rolling_resistance),
             });
         }
         let spawn_count = match file.spawn.as_ref().and_then(|s| s.count.as_ref()) {
@@ -334,6 +370,7 @@ impl Scene {
             spawn_count,
             settings,
             groups,
+            wall_material: material(b.density, b.friction, b.restitution, b.rolling_resistance),
         };
         scene.validate()?;
         Ok(scene)
@@ -419,6 +456,11 @@ struct BoxSpec {
     right: toml::Spanned<Finite>,
     floor: toml::Spanned<Finite>,
     top: toml::Spanned<Finite>,
+    // The material's keys (see [`material`]).
+    density: Option<Positive>,
+    friction: Option<NonNegative>,
+    restitution: Option<UnitInterval>,
+    rolling_resistance: Option<NonNegative>,
 }
 
 #[derive(Deserialize, Clone)]
@@ -445,6 +487,21 @@ struct SolverSpec {
     rotation: Option<RotationSpec>,
     narrow_phase: Option<NarrowPhaseSpec>,
     broad_phase: Option<BroadPhaseSpec>,
+    model: Option<ModelSpec>,
+    substeps: Option<toml::Spanned<u32>>,
+    contact_hertz: Option<Positive>,
+    damping_ratio: Option<NonNegative>,
+    push_out: Option<Positive>,
+    restitution_threshold: Option<NonNegative>,
+    linear_damping: Option<NonNegative>,
+    angular_damping: Option<NonNegative>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "snake_case")]
+enum ModelSpec {
+    Paper,
+    Soft,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -518,6 +575,28 @@ struct GroupSpec {
     exponent: Option<PositiveRange>,
     exponents: Option<toml::Spanned<Vec<PositiveRange>>>,
     angle: Option<FiniteRange>,
+    // The material's keys (see [`material`]).
+    density: Option<Positive>,
+    friction: Option<NonNegative>,
+    restitution: Option<UnitInterval>,
+    rolling_resistance: Option<NonNegative>,
+}
+
+/// A material from its keys in a `[[group]]` or in `[box]` (the walls'); absent keys take
+/// [`Material::default`]'s values.
+fn material(
+    density: Option<Positive>,
+    friction: Option<NonNegative>,
+    restitution: Option<UnitInterval>,
+    rolling_resistance: Option<NonNegative>,
+) -> Material {
+    let d = Material::default();
+    Material {
+        density: density.map_or(d.density, |v| v.0),
+        friction: friction.map_or(d.friction, |v| v.0),
+        restitution: restitution.map_or(d.restitution, |v| v.0),
+        rolling_resistance: rolling_resistance.map_or(d.rolling_resistance, |v| v.0),
+    }
 }
 
 /// Numbers checked while parsing, so that the TOML error points at the offending value.
@@ -548,6 +627,8 @@ checked_number!(Positive, "a finite number > 0", |v| v.is_finite()
 checked_number!(NonNegative, "a finite number >= 0", |v| v.is_finite()
     && v >= 0.0);
 checked_number!(Finite, "a finite number", |v| v.is_finite());
+checked_number!(UnitInterval, "a number in [0, 1]", |v| (0.0..=1.0)
+    .contains(&v));
 
 /// A number or `[lo, hi]`, each end checked.
 macro_rules! checked_range {

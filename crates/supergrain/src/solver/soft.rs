@@ -1,0 +1,794 @@
+//! The rigid-body contact solver (issue 18), `model = "soft"`: grains with mass and moment of
+//! inertia, velocities as state, Coulomb friction, restitution and rolling resistance, contacts
+//! found once per step by the certified narrow phase and solved with substeps as soft
+//! constraints, after Box2D v3's "soft step" (Catto, "Solver2D", 2024). Written for this
+//! project from the published description of the method: the solver is the heart of the
+//! engine, and its contacts come from our narrow phase, not from polygon clipping.
+//!
+//! One step of length `h`, in named stages:
+//! 1. [`find_contacts`]: every pair whose boxes overlap at the poses the grains would reach
+//!    in free flight (`x + h (v + h g)`, `theta + h omega`) is tested there, by the certified
+//!    narrow phase. Testing where the grains are going is the speculative margin: a grain that
+//!    would reach another within the step gets its contact before it gets there. Each overlap
+//!    becomes a [`Manifold`] (the middle of the overlap, and the region's ends where flat faces
+//!    meet), its points anchored in the bodies and its separation carried back to the step's
+//!    start.
+//! 2. [`prepare`]: effective masses along the normal and the tangent, the soft-constraint
+//!    coefficients, the relative normal velocity (for restitution), friction and restitution
+//!    mixed from the two materials.
+//! 3. `substeps` times: gravity and damping on the velocities, [`warm_start`] (the impulses the
+//!    contact kept from the last step, then those of the last substep), [`solve`] with the
+//!    soft push-out, positions integrated, [`solve`] again without it (the "relax" that takes
+//!    the push-out's velocity back out).
+//! 4. [`restitution`] on the points that were closing faster than the threshold.
+//! 5. The impulses are kept by pair and point for the next step.
+//!
+//! The separation of a point within the step is updated from the bodies' motion since the
+//! step's start (the anchors turn with the bodies); the narrow phase runs once per step.
+
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rayon::prelude::*;
+
+use super::{Body, NarrowPhase, Settings, StepStats, Stopped, Walls, pair_precision};
+use crate::broad_phase::BroadPhase;
+use crate::contact::manifold::{Manifold, grain_manifold, wall_manifold};
+use crate::contact::{
+    Contact, Penetration, WarmStart, contact_quadtree, contact_wall, contact_wall_quadtree,
+    contact_warm, disk_disk,
+};
+use crate::geometry::{Aabb, Rotation, Vec2};
+use crate::shape::{HalfPlane, Pose};
+
+/// What a grain (or a wall) is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Mass per unit area.
+    pub density: f64,
+    /// Coulomb's coefficient: the tangential impulse at a point is at most `friction` times
+    /// the normal one.
+    pub friction: f64,
+    /// The ratio of the speeds apart and together along the normal after an impact faster
+    /// than [`SoftSettings::restitution_threshold`].
+    pub restitution: f64,
+    /// The rolling-friction coefficient `mu_r`: the torque resisting the relative rolling of
+    /// two grains is at most `mu_r R F_n`, `R` the contact's mean lever arm (DEM's "type A"
+    /// rolling resistance, as Box2D v3's `rollingResistance`). Without it poured disks roll
+    /// flat.
+    pub rolling_resistance: f64,
+}
+
+impl Default for Material {
+    /// Density 1, friction 0.6 and no restitution or rolling resistance: Box2D's defaults.
+    fn default() -> Self {
+        Material {
+            density: 1.0,
+            friction: 0.6,
+            restitution: 0.0,
+            rolling_resistance: 0.0,
+        }
+    }
+}
+
+/// Two materials in contact: friction is the geometric mean, restitution and rolling
+/// resistance the larger (Box2D's rules: a frictionless grain slides on anything, a bouncy one
+/// bounces on anything).
+fn mix(a: &Material, b: &Material) -> (f64, f64, f64) {
+    (
+        (a.friction * b.friction).sqrt(),
+        a.restitution.max(b.restitution),
+        a.rolling_resistance.max(b.rolling_resistance),
+    )
+}
+
+/// The soft step's settings (Box2D v3's defaults, in its units: our grains are tenths of a
+/// unit to a unit across, as Box2D's bodies are in metres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SoftSettings {
+    /// Substeps per step.
+    pub substeps: u32,
+    /// The contacts' stiffness, as a frequency (Hz); at most a quarter of the substep rate is
+    /// used. Against walls, twice this.
+    pub contact_hertz: f64,
+    /// The contacts' damping ratio (above 1: overdamped, no bounce from the push-out).
+    pub damping_ratio: f64,
+    /// The fastest an overlap is pushed out (units per second).
+    pub push_out: f64,
+    /// Impacts slower than this (units per second) do not bounce.
+    pub restitution_threshold: f64,
+    /// The overlap a resting contact keeps: the narrow phase reports a contact within its
+    /// tolerance of touching as apart, so a contact pushed out exactly would flicker on and off.
+    pub slop: f64,
+    /// Air drag on the linear and angular velocities (per second); 0: none.
+    pub linear_damping: f64,
+    pub angular_damping: f64,
+}
+
+impl Default for SoftSettings {
+    fn default() -> Self {
+        SoftSettings {
+            substeps: 4,
+            contact_hertz: 30.0,
+            damping_ratio: 10.0,
+            push_out: 3.0,
+            restitution_threshold: 1.0,
+            slop: 0.005,
+            linear_damping: 0.0,
+            angular_damping: 0.0,
+        }
+    }
+}
+
+/// The coefficients of a soft constraint of frequency `hertz` and damping ratio `zeta`, for a
+/// substep `h` (Catto's "soft step": a spring-damper solved implicitly, expressed as a bias
+/// rate and two scales of the impulse).
+#[derive(Clone, Copy, Debug)]
+struct Softness {
+    bias_rate: f64,
+    mass_scale: f64,
+    impulse_scale: f64,
+}
+
+impl Softness {
+    fn new(hertz: f64, zeta: f64, h: f64) -> Self {
+        let omega = std::f64::consts::TAU * hertz;
+        let a1 = 2.0 * zeta + h * omega;
+        let a2 = h * omega * a1;
+        let a3 = 1.0 / (1.0 + a2);
+        Softness {
+            bias_rate: omega / a1,
+            mass_scale: a2 * a3,
+            impulse_scale: a3,
+        }
+    }
+}
+
+/// No body: the wall side of a grain-wall contact.
+pub const STATIC: usize = usize::MAX;
+
+/// The most walls a world can have: the box's three and the planes (see
+/// [`crate::world::World::planes`]).
+pub const MAX_WALLS: usize = 64;
+
+/// The key a contact persists under: the two grains (`j` is `STATIC - w` for wall `w`: 0, 1,
+/// 2 the box's left, right and floor, then the planes in order).
+pub type PairKey = (usize, usize);
+
+/// The impulses a point carried at the end of a step, kept for the next one.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kept {
+    pub normal: [f64; 3],
+    pub tangent: [f64; 3],
+    pub rolling: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Point {
+    /// From each body's centre at the step's start to the point (world orientation of the
+    /// start; for a wall, the point itself).
+    ra: Vec2,
+    rb: Vec2,
+    /// The separation at the step's start.
+    base: f64,
+    normal_mass: f64,
+    tangent_mass: f64,
+    normal_impulse: f64,
+    tangent_impulse: f64,
+    max_normal_impulse: f64,
+    /// The normal velocity before the step (negative: closing), for restitution.
+    closing: f64,
+    id: u8,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Constraint {
+    a: usize,
+    b: usize,
+    key: PairKey,
+    normal: Vec2,
+    friction: f64,
+    restitution: f64,
+    rolling_resistance: f64,
+    /// The mean lever arm, for rolling resistance.
+    lever: f64,
+    rolling_mass: f64,
+    rolling_impulse: f64,
+    softness: Softness,
+    points: [Point; 3],
+    len: usize,
+}
+
+/// What the soft step keeps between steps and reuses within one.
+#[derive(Debug, Default)]
+pub struct SoftWorkspace {
+    /// Inverse mass and inverse moment of inertia of each grain (computed once per grain: the
+    /// closed forms take gamma functions).
+    inverse: Vec<(f64, f64)>,
+    /// The impulses of each contact at the end of the last step (warm start).
+    pub kept: HashMap<PairKey, Kept>,
+    /// Where each pair's last narrow-phase test found its deepest points (`next_warm`: this
+    /// step's, kept when the step is whole).
+    pub warm: HashMap<PairKey, WarmStart>,
+    next_warm: HashMap<PairKey, WarmStart>,
+    predicted: Vec<Pose>,
+    boxes: Vec<Aabb>,
+    candidates: Vec<usize>,
+    pairs: Vec<(usize, usize, Option<WarmStart>)>,
+    constraints: Vec<Constraint>,
+    start: Vec<(Vec2, f64)>,
+    v: Vec<Vec2>,
+    w: Vec<f64>,
+    turn: Vec<Rotation>,
+    planes: Vec<HalfPlane>,
+}
+
+impl SoftWorkspace {
+    /// Forget the masses (a grain's shape or material changed) and the kept contacts.
+    pub fn reset(&mut self) {
+        *self = SoftWorkspace::default();
+    }
+}
+
+/// One soft step of `bodies` (see the module docs). `materials[g]` is the material of group
+/// `g` (grains of a group past its end take the last one, or the default), `wall` the walls'.
+#[allow(clippy::too_many_arguments)]
+pub fn step_or_stop<B: BroadPhase>(
+    bodies: &mut [Body],
+    walls: &Walls,
+    planes: &[HalfPlane],
+    materials: &[Material],
+    wall: &Material,
+    settings: &Settings,
+    broad: &mut B,
+    work: &mut SoftWorkspace,
+    stop: &AtomicBool,
+) -> Result<StepStats, Stopped> {
+    let soft = &settings.soft;
+    let h = settings.step;
+    let n = soft.substeps.max(1);
+    let hs = h / f64::from(n);
+    let material = |b: &Body| {
+        materials
+            .get(b.group as usize)
+            .or(materials.last())
+            .copied()
+            .unwrap_or_default()
+    };
+    masses(bodies, &material, work);
+    let gravity = Vec2::new(0.0, -settings.gravity);
+    let mut all = std::mem::take(&mut work.planes);
+    all.clear();
+    all.extend(walls.half_planes());
+    all.extend_from_slice(planes);
+    let found = find_contacts(bodies, &all, settings, broad, work, stop);
+    work.planes = all;
+    let mut stats = found?;
+    prepare(bodies, &material, wall, settings, hs, work);
+    stats.contacts = work.constraints.len();
+
+    let SoftWorkspace {
+        inverse,
+        constraints,
+        start,
+        v,
+        w,
+        turn,
+        ..
+    } = work;
+    start.clear();
+    start.extend(bodies.iter().map(|b| (b.center, b.angle)));
+    v.clear();
+    v.extend(bodies.iter().map(|b| b.velocity));
+    w.clear();
+    w.extend(bodies.iter().map(|b| b.angular_velocity));
+    turn.clear();
+    turn.resize(bodies.len(), Rotation::IDENTITY);
+    let (lin, ang) = (
+        1.0 / (1.0 + hs * soft.linear_damping),
+        1.0 / (1.0 + hs * soft.angular_damping),
+    );
+    let mut state = State {
+        bodies,
+        inverse,
+        v,
+        w,
+        turn,
+        start,
+    };
+    for _ in 0..n {
+        if stop.load(Ordering::Relaxed) {
+            return Err(Stopped);
+        }
+        for i in 0..state.v.len() {
+            state.v[i] = (state.v[i] + gravity * hs) * lin;
+            state.w[i] *= ang;
+        }
+        warm_start(constraints, &mut state);
+        solve(constraints, &mut state, hs, soft, true);
+        for i in 0..state.v.len() {
+            let b = &mut state.bodies[i];
+            b.center += state.v[i] * hs;
+            b.angle += state.w[i] * hs;
+            state.turn[i] = Rotation::new(b.angle - state.start[i].1);
+        }
+        solve(constraints, &mut state, hs, soft, false);
+    }
+    restitution(constraints, &mut state, soft);
+    for (i, b) in state.bodies.iter_mut().enumerate() {
+        b.previous_center = state.start[i].0;
+        b.previous_angle = state.start[i].1;
+        b.velocity = state.v[i];
+        b.angular_velocity = state.w[i];
+    }
+    keep(work);
+    Ok(stats)
+}
+
+/// The inverse masses of grains not seen before (grains only ever join the end of the list).
+fn masses(bodies: &[Body], material: &impl Fn(&Body) -> Material, work: &mut SoftWorkspace) {
+    if work.inverse.len() > bodies.len() {
+        work.inverse.clear();
+    }
+    for b in &bodies[work.inverse.len()..] {
+        let mass = material(b).density * b.shape.area();
+        let inertia = b.shape.moment_of_inertia(mass);
+        let inv = |x: f64| {
+            if x > 0.0 && x.is_finite() {
+                1.0 / x
+            } else {
+                0.0
+            }
+        };
+        work.inverse.push((inv(mass), inv(inertia)));
+    }
+}
+
+/// The grains' velocities and motion during the substeps.
+struct State<'a> {
+    bodies: &'a mut [Body],
+    inverse: &'a [(f64, f64)],
+    v: &'a mut [Vec2],
+    w: &'a mut [f64],
+    /// The rotation of each grain since the step's start.
+    turn: &'a mut [Rotation],
+    start: &'a [(Vec2, f64)],
+}
+
+impl State<'_> {
+    fn velocity(&self, i: usize) -> (Vec2, f64) {
+        if i == STATIC {
+            (Vec2::ZERO, 0.0)
+        } else {
+            (self.v[i], self.w[i])
+        }
+    }
+
+    /// How far the point `r` (from grain `i`'s start centre) has moved since the step's start.
+    fn moved(&self, i: usize, r: Vec2) -> Vec2 {
+        if i == STATIC {
+            Vec2::ZERO
+        } else {
+            self.bodies[i].center - self.start[i].0 + self.turn[i].apply(r) - r
+        }
+    }
+
+    fn apply(&mut self, i: usize, r: Vec2, impulse: Vec2, sign: f64) {
+        if i != STATIC {
+            let (m, iw) = self.inverse[i];
+            self.v[i] += impulse * (sign * m);
+            self.w[i] += sign * iw * r.cross(impulse);
+        }
+    }
+
+    fn apply_angular(&mut self, i: usize, impulse: f64) {
+        if i != STATIC {
+            self.w[i] += self.inverse[i].1 * impulse;
+        }
+    }
+}
+
+/// `omega x r` in 2D.
+fn spin(w: f64, r: Vec2) -> Vec2 {
+    Vec2::new(-w * r.y, w * r.x)
+}
+
+/// The relative velocity of B's point to A's.
+fn relative(s: &State, c: &Constraint, p: &Point) -> Vec2 {
+    let (va, wa) = s.velocity(c.a);
+    let (vb, wb) = s.velocity(c.b);
+    (vb + spin(wb, p.rb)) - (va + spin(wa, p.ra))
+}
+
+/// The narrow phase's answer for a pair, certified (the sound answers: the half-axis search
+/// and pushes that separate), at the given poses.
+fn pair_contact(
+    settings: &Settings,
+    a: &Body,
+    pa: &Pose,
+    b: &Body,
+    pb: &Pose,
+    warm: &mut Option<WarmStart>,
+) -> Contact {
+    let precision = pair_precision(settings, a, b);
+    match settings.narrow_phase {
+        NarrowPhase::Interval => contact_warm(&a.shape, pa, &b.shape, pb, &precision, warm),
+        NarrowPhase::Quadtree => contact_quadtree(&a.shape, pa, &b.shape, pb, &precision),
+        NarrowPhase::Analytic => {
+            let (ra, rb) = (a.shape.semi_axes().x, b.shape.semi_axes().x);
+            let (ca, cb) = (pa.center(), pb.center());
+            Contact {
+                penetration: disk_disk(ca, ra, cb, rb).map(|(n, depth)| Penetration {
+                    a_deepest: ca + n * ra,
+                    b_deepest: cb - n * rb,
+                    a_push: n * -depth,
+                    b_push: n * depth,
+                }),
+                cells: 0,
+            }
+        }
+    }
+}
+
+/// Stage 1: the contacts of the step, tested at the poses of free flight, as manifolds with
+/// their points anchored (module docs). Grain pairs are tested on all cores, in a fixed order
+/// of pairs, so the result does not depend on the number of threads.
+fn find_contacts<B: BroadPhase>(
+    bodies: &[Body],
+    walls: &[HalfPlane],
+    settings: &Settings,
+    broad: &mut B,
+    work: &mut SoftWorkspace,
+    stop: &AtomicBool,
+) -> Result<StepStats, Stopped> {
+    let h = settings.step;
+    let fall = Vec2::new(0.0, -settings.gravity * h);
+    work.predicted.clear();
+    work.predicted.extend(bodies.iter().map(|b| {
+        Pose::from_parts(
+            b.center + (b.velocity + fall) * h,
+            b.angle + b.angular_velocity * h,
+        )
+    }));
+    work.boxes.clear();
+    work.boxes.extend(
+        bodies
+            .iter()
+            .zip(&work.predicted)
+            .map(|(b, p)| b.shape.bounding_box(p)),
+    );
+    broad.rebuild(&work.boxes);
+    work.pairs.clear();
+    for i in 0..bodies.len() {
+        work.candidates.clear();
+        broad.candidates(i, &work.boxes, &mut work.candidates);
+        for &j in work.candidates.iter().filter(|&&j| j > i) {
+            work.pairs.push((i, j, work.warm.get(&(i, j)).copied()));
+        }
+    }
+    let predicted = &work.predicted;
+    let found: Vec<Option<(Contact, Option<WarmStart>)>> = work
+        .pairs
+        .par_iter()
+        .map(|&(i, j, warm)| {
+            if stop.load(Ordering::Relaxed) {
+                return None;
+            }
+            let mut warm = warm;
+            let c = pair_contact(
+                settings,
+                &bodies[i],
+                &predicted[i],
+                &bodies[j],
+                &predicted[j],
+                &mut warm,
+            );
+            Some((c, warm))
+        })
+        .collect();
+    if stop.load(Ordering::Relaxed) {
+        return Err(Stopped);
+    }
+    let mut stats = StepStats {
+        tests: work.pairs.len(),
+        ..StepStats::default()
+    };
+    work.next_warm.clear();
+    work.constraints.clear();
+    for (&(i, j, _), answer) in work.pairs.iter().zip(found) {
+        let (contact, warm) = answer.expect("not stopped");
+        if let Some(w) = warm {
+            work.next_warm.insert((i, j), w);
+        }
+        if let Some(p) = contact.penetration {
+            let (a, b) = (&bodies[i], &bodies[j]);
+            let m = grain_manifold(&a.shape, &predicted[i], &b.shape, &predicted[j], &p);
+            work.constraints
+                .push(anchored(i, j, (i, j), &m, bodies, predicted));
+        }
+    }
+    let wall_precision = settings.wall_precision();
+    for (i, b) in bodies.iter().enumerate() {
+        for (k, wall) in walls.iter().enumerate() {
+            if !work.boxes[i].intersects(&wall.bounding_box()) {
+                continue;
+            }
+            stats.tests += 1;
+            let pose = &work.predicted[i];
+            let c = match settings.narrow_phase {
+                NarrowPhase::Quadtree => {
+                    contact_wall_quadtree(&b.shape, pose, wall, &wall_precision)
+                }
+                _ => contact_wall(&b.shape, pose, wall, &wall_precision),
+            };
+            if let Some(p) = c.penetration {
+                let m = wall_manifold(&b.shape, pose, wall, &p);
+                work.constraints.push(anchored(
+                    STATIC,
+                    i,
+                    (i, STATIC - k),
+                    &m,
+                    bodies,
+                    &work.predicted,
+                ));
+            }
+        }
+    }
+    Ok(stats)
+}
+
+/// A manifold found at the predicted poses, as a constraint between `a` and `b`. Each point's
+/// lever is its offset from the grain's predicted centre: where the contact is, not the
+/// material point that will be there (turned back to the step's start, a rolling disk's lever
+/// tilts by its turn in one step, and the normal impulse then brakes the rolling like a
+/// rolling resistance of that angle: measured, 25% slow at 3 radians per second). The
+/// separation is carried back to the step's start along the motion the substeps will measure
+/// ([`separation`]), so that at the predicted poses it is the narrow phase's.
+fn anchored(
+    a: usize,
+    b: usize,
+    key: PairKey,
+    m: &Manifold,
+    bodies: &[Body],
+    predicted: &[Pose],
+) -> Constraint {
+    let lever = |i: usize, c: Vec2| {
+        if i == STATIC {
+            Vec2::ZERO
+        } else {
+            c - predicted[i].center()
+        }
+    };
+    // How far the point at offset `r` moves from the start to the predicted pose.
+    let moved = |i: usize, r: Vec2| {
+        if i == STATIC {
+            Vec2::ZERO
+        } else {
+            let turn = Rotation::new(predicted[i].angle() - bodies[i].angle);
+            predicted[i].center() - bodies[i].center + turn.apply(r) - r
+        }
+    };
+    let mut points = [Point {
+        ra: Vec2::ZERO,
+        rb: Vec2::ZERO,
+        base: 0.0,
+        normal_mass: 0.0,
+        tangent_mass: 0.0,
+        normal_impulse: 0.0,
+        tangent_impulse: 0.0,
+        max_normal_impulse: 0.0,
+        closing: 0.0,
+        id: 0,
+    }; 3];
+    let mp = m.points();
+    for (q, p) in points.iter_mut().zip(mp) {
+        let (ra, rb) = (lever(a, p.point), lever(b, p.point));
+        q.ra = ra;
+        q.rb = rb;
+        q.base = p.separation - m.normal.dot(moved(b, rb) - moved(a, ra));
+        q.id = p.id;
+    }
+    Constraint {
+        a,
+        b,
+        key,
+        normal: m.normal,
+        friction: 0.0,
+        restitution: 0.0,
+        rolling_resistance: 0.0,
+        lever: 0.0,
+        rolling_mass: 0.0,
+        rolling_impulse: 0.0,
+        softness: Softness {
+            bias_rate: 0.0,
+            mass_scale: 1.0,
+            impulse_scale: 0.0,
+        },
+        points,
+        len: mp.len(),
+    }
+}
+
+/// Stage 2: masses, materials, softness and the impulses kept from the last step.
+fn prepare(
+    bodies: &[Body],
+    material: &impl Fn(&Body) -> Material,
+    wall: &Material,
+    settings: &Settings,
+    hs: f64,
+    work: &mut SoftWorkspace,
+) {
+    let soft = &settings.soft;
+    let hertz = soft.contact_hertz.min(0.25 / hs);
+    let grains = Softness::new(hertz, soft.damping_ratio, hs);
+    let walls = Softness::new(2.0 * hertz, soft.damping_ratio, hs);
+    let inverse = &work.inverse;
+    let inv = |i: usize| {
+        if i == STATIC { (0.0, 0.0) } else { inverse[i] }
+    };
+    let vel = |i: usize| {
+        if i == STATIC {
+            (Vec2::ZERO, 0.0)
+        } else {
+            (bodies[i].velocity, bodies[i].angular_velocity)
+        }
+    };
+    for c in &mut work.constraints {
+        let ma = if c.a == STATIC {
+            *wall
+        } else {
+            material(&bodies[c.a])
+        };
+        let mb = material(&bodies[c.b]);
+        (c.friction, c.restitution, c.rolling_resistance) = mix(&ma, &mb);
+        c.softness = if c.a == STATIC { walls } else { grains };
+        let ((ma, ia), (mb, ib)) = (inv(c.a), inv(c.b));
+        let (n, t) = (c.normal, Vec2::new(c.normal.y, -c.normal.x));
+        let kept = work.kept.get(&c.key).copied().unwrap_or_default();
+        let ((va, wa), (vb, wb)) = (vel(c.a), vel(c.b));
+        let mut lever = 0.0;
+        for p in &mut c.points[..c.len] {
+            let k = |d: Vec2| {
+                let (ca, cb) = (p.ra.cross(d), p.rb.cross(d));
+                ma + mb + ia * ca * ca + ib * cb * cb
+            };
+            p.normal_mass = 1.0 / k(n);
+            p.tangent_mass = 1.0 / k(t);
+            let dv = (vb + spin(wb, p.rb)) - (va + spin(wa, p.ra));
+            p.closing = dv.dot(n);
+            let slot = usize::from(p.id);
+            p.normal_impulse = kept.normal[slot];
+            p.tangent_impulse = kept.tangent[slot];
+            p.max_normal_impulse = 0.0;
+            // Against a wall, the grain's own arm.
+            lever += if c.a == STATIC {
+                p.rb.norm()
+            } else {
+                0.5 * (p.ra.norm() + p.rb.norm())
+            };
+        }
+        c.lever = lever / c.len as f64;
+        let k = ia + ib;
+        c.rolling_mass = if k > 0.0 { 1.0 / k } else { 0.0 };
+        c.rolling_impulse = kept.rolling;
+    }
+}
+
+/// The current separation of a point: its start value moved by the bodies' motion since.
+fn separation(s: &State, c: &Constraint, p: &Point) -> f64 {
+    p.base + c.normal.dot(s.moved(c.b, p.rb) - s.moved(c.a, p.ra))
+}
+
+/// Applies the impulses accumulated so far (from the last step, then the last substep).
+fn warm_start(constraints: &[Constraint], s: &mut State) {
+    for c in constraints {
+        let t = Vec2::new(c.normal.y, -c.normal.x);
+        for p in &c.points[..c.len] {
+            let impulse = c.normal * p.normal_impulse + t * p.tangent_impulse;
+            s.apply(c.a, p.ra, impulse, -1.0);
+            s.apply(c.b, p.rb, impulse, 1.0);
+        }
+        s.apply_angular(c.a, -c.rolling_impulse);
+        s.apply_angular(c.b, c.rolling_impulse);
+    }
+}
+
+/// One pass over the contacts: the normal impulses, then friction and rolling resistance,
+/// each clamped by the normal impulses just found (solved the other way round, the normal
+/// pass that follows can lower them below what the friction used: measured, a block sliding
+/// down a slope with `mu = 0.3` was held back as if by 0.4). With `bias`, overlaps deeper than
+/// the slop are pushed out softly; without, only the velocities are made to agree (the
+/// relax).
+fn solve(constraints: &mut [Constraint], s: &mut State, hs: f64, soft: &SoftSettings, bias: bool) {
+    for c in constraints.iter_mut() {
+        let n = c.normal;
+        let t = Vec2::new(n.y, -n.x);
+        for k in 0..c.len {
+            let p = c.points[k];
+            let sep = separation(s, c, &p) + soft.slop;
+            let (push, mass_scale, impulse_scale) = if sep > 0.0 {
+                // Apart: the grains may close the gap within the substep, no more.
+                (sep / hs, 1.0, 0.0)
+            } else if bias {
+                (
+                    (c.softness.bias_rate * sep).max(-soft.push_out),
+                    c.softness.mass_scale,
+                    c.softness.impulse_scale,
+                )
+            } else {
+                (0.0, 1.0, 0.0)
+            };
+            let vn = relative(s, c, &p).dot(n);
+            let raw = -p.normal_mass * mass_scale * (vn + push) - impulse_scale * p.normal_impulse;
+            let next = (p.normal_impulse + raw).max(0.0);
+            let d = next - p.normal_impulse;
+            let q = &mut c.points[k];
+            q.normal_impulse = next;
+            q.max_normal_impulse = q.max_normal_impulse.max(next);
+            s.apply(c.a, p.ra, n * d, -1.0);
+            s.apply(c.b, p.rb, n * d, 1.0);
+        }
+        for k in 0..c.len {
+            let p = c.points[k];
+            let vt = relative(s, c, &p).dot(t);
+            let most = c.friction * p.normal_impulse;
+            let next = (p.tangent_impulse - p.tangent_mass * vt).clamp(-most, most);
+            let d = next - p.tangent_impulse;
+            c.points[k].tangent_impulse = next;
+            s.apply(c.a, p.ra, t * d, -1.0);
+            s.apply(c.b, p.rb, t * d, 1.0);
+        }
+        if c.rolling_resistance > 0.0 {
+            let total: f64 = c.points[..c.len].iter().map(|p| p.normal_impulse).sum();
+            let (_, wa) = s.velocity(c.a);
+            let (_, wb) = s.velocity(c.b);
+            let most = c.rolling_resistance * c.lever * total;
+            let old = c.rolling_impulse;
+            c.rolling_impulse = (old - c.rolling_mass * (wb - wa)).clamp(-most, most);
+            let d = c.rolling_impulse - old;
+            s.apply_angular(c.a, -d);
+            s.apply_angular(c.b, d);
+        }
+    }
+}
+
+/// Stage 4: points that closed faster than the threshold and were pushed get the normal
+/// velocity `-e` times their closing one.
+fn restitution(constraints: &mut [Constraint], s: &mut State, soft: &SoftSettings) {
+    for c in constraints.iter_mut() {
+        if c.restitution == 0.0 {
+            continue;
+        }
+        let n = c.normal;
+        for k in 0..c.len {
+            let p = c.points[k];
+            if p.closing > -soft.restitution_threshold || p.max_normal_impulse == 0.0 {
+                continue;
+            }
+            let vn = relative(s, c, &p).dot(n);
+            let raw = -p.normal_mass * (vn + c.restitution * p.closing);
+            let next = (p.normal_impulse + raw).max(0.0);
+            let d = next - p.normal_impulse;
+            c.points[k].normal_impulse = next;
+            s.apply(c.a, p.ra, n * d, -1.0);
+            s.apply(c.b, p.rb, n * d, 1.0);
+        }
+    }
+}
+
+/// Stage 5: each contact's impulses, by pair and point, for the next step's warm start.
+fn keep(work: &mut SoftWorkspace) {
+    std::mem::swap(&mut work.warm, &mut work.next_warm);
+    work.kept.clear();
+    for c in &work.constraints {
+        let mut k = Kept {
+            rolling: c.rolling_impulse,
+            ..Kept::default()
+        };
+        for p in &c.points[..c.len] {
+            k.normal[usize::from(p.id)] = p.normal_impulse;
+            k.tangent[usize::from(p.id)] = p.tangent_impulse;
+        }
+        work.kept.insert(c.key, k);
+    }
+}
