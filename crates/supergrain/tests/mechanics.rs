@@ -221,7 +221,6 @@ fn on_incline(shape: Superellipse, theta: f64, mu: f64, seconds: f64) -> Vec<f64
 }
 
 #[test]
-#[ignore = "open (issue 18): blocks creep and rock on the manifold's middle point; see docs/physics.md"]
 fn a_block_on_an_incline_below_its_friction_angle_stays_put() {
     let block = Superellipse::new([0.3, 0.2], [8.0, 8.0]).unwrap();
     let mu: f64 = 0.6;
@@ -272,9 +271,11 @@ fn a_disk_rolls_down_an_incline_without_slipping_at_two_thirds_g_sin() {
 }
 
 /// Runs `w` for `seconds` and returns the largest distance any grain moved from its place
-/// after the first half second (the stack settling onto its contacts).
+/// after the first two seconds (the stack, built touching, settling onto its contacts: each
+/// block-block contact comes to overlap about 0.012, the slop and the faces' bulge at the
+/// manifold's side points).
 fn largest_motion(w: &mut World, seconds: f64) -> (usize, f64) {
-    let settle = (0.5 / w.settings.step) as usize;
+    let settle = (2.0 / w.settings.step) as usize;
     for _ in 0..settle {
         w.step();
     }
@@ -292,7 +293,6 @@ fn largest_motion(w: &mut World, seconds: f64) -> (usize, f64) {
 }
 
 #[test]
-#[ignore = "open (issue 18): blocks creep and rock on the manifold's middle point; see docs/physics.md"]
 fn a_column_of_ten_blocks_stands() {
     let (hx, hy) = (0.3, 0.2);
     let block = Superellipse::new([hx, hy], [8.0, 8.0]).unwrap();
@@ -309,7 +309,7 @@ fn a_column_of_ten_blocks_stands() {
 }
 
 #[test]
-#[ignore = "open (issue 18): blocks creep and rock on the manifold's middle point; see docs/physics.md"]
+#[ignore = "open (issue 18): the top of the pyramid still creeps, 0.015 in 10 s (1% is 0.004)"]
 fn a_pyramid_of_twenty_blocks_stands() {
     let (hx, hy) = (0.3, 0.2);
     let block = Superellipse::new([hx, hy], [8.0, 8.0]).unwrap();

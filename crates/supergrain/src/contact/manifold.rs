@@ -3,14 +3,18 @@
 //!
 //! A contact of two round shapes is one point: the middle of the overlap, between the two
 //! deepest points, at the overlap's depth. Where flat faces meet (a block on a block, a block on
-//! the floor) one point cannot hold the grain up: it rocks about it. Box2D clips polygon faces
-//! and keeps two points; a superellipse has no faces to clip, but the overlap region has ends,
-//! where the two boundaries cross. They are found by following one shape's boundary, in its
-//! parameter, from its deepest point both ways until it leaves the other shape, and each is
-//! added as a point at separation zero (on both boundaries). When the grain starts to tip, the
-//! end that closes is held; while it rests, the middle point carries it.
+//! the floor) one point cannot hold the grain up: it rocks about it, and the deepest point of a
+//! face lying flat jumps from one end to the other as the grain tips (measured: a block on a
+//! slope rocked at 0.4 radians per second and crept down it). Box2D clips polygon faces and
+//! keeps two points; a superellipse has no faces to clip, but its contact has a patch: the
+//! stretch of boundary within `margin` of the other shape. It is found by following A's
+//! boundary, in its parameter, from the deepest point both ways until the separation exceeds
+//! the margin; when the patch is wider than a fifth of the smaller grain, the contact is two
+//! points instead of the middle one, four fifths of the way from the middle to each end of the
+//! patch, each with its own separation (exact against a wall, `f / |grad f|` against a grain).
+//! As the grain tips, one point closes and the other opens, smoothly.
 //!
-//! The ends are searched only when a shape is blocky (an exponent above 2): between round
+//! The patch is searched only when a shape is blocky (an exponent above 2): between round
 //! shapes the overlap is a lens a few slops wide, and its middle is the contact. Pairs whose
 //! overlap has several regions (stars) get the region of the deepest points here; issue 19
 //! reports every region.
@@ -60,29 +64,17 @@ impl Manifold {
         }
     }
 
-    fn push(&mut self, point: Vec2, id: u8) {
-        if self.len < MAX_POINTS {
-            self.points[self.len] = ManifoldPoint {
-                point,
-                separation: 0.0,
-                id,
-            };
-            self.len += 1;
-        }
-    }
-
-    /// Adds the region's ends when they lie apart from the middle and from each other by more
-    /// than `min_gap`: otherwise the middle alone holds the contact.
-    fn add_ends(&mut self, ends: [Option<Vec2>; 2], min_gap: f64) {
-        let middle = self.points[0].point;
-        if let [Some(e1), Some(e2)] = ends
-            && (e1 - e2).norm() > min_gap
-        {
-            for (e, id) in [(e1, 1), (e2, 2)] {
-                if (e - middle).norm() > 0.5 * min_gap {
-                    self.push(e, id);
-                }
+    /// When the patch is wide, its two side points replace the middle.
+    fn sides(&mut self, patch: Option<[(Vec2, f64); 2]>) {
+        if let Some(sides) = patch {
+            for (k, (point, separation)) in sides.into_iter().enumerate() {
+                self.points[k] = ManifoldPoint {
+                    point,
+                    separation,
+                    id: k as u8 + 1,
+                };
             }
+            self.len = 2;
         }
     }
 }
@@ -99,6 +91,7 @@ pub fn grain_manifold(
     b: &Superellipse,
     pose_b: &Pose,
     p: &Penetration,
+    margin: f64,
 ) -> Manifold {
     let (ca, cb) = (pose_a.center(), pose_b.center());
     let normal = (p.b_push - p.a_push)
@@ -110,9 +103,20 @@ pub fn grain_manifold(
     let middle = (p.a_deepest + p.b_deepest) * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
     if blocky(a) || blocky(b) {
-        let inside_b = |q: Vec2| b.value(pose_b, q) < 0.0;
-        let ends = region_ends(a, pose_a, p.a_deepest, inside_b);
-        m.add_ends(ends, min_gap(a, b));
+        let gap = |q: Vec2| {
+            let (f, g) = b.value_and_gradient(pose_b, q);
+            let len = g.norm();
+            if len > 0.0 { f / len } else { f64::INFINITY }
+        };
+        m.sides(patch(
+            a,
+            pose_a,
+            p.a_deepest,
+            normal,
+            gap,
+            margin,
+            min_gap(a, b),
+        ));
     }
     m
 }
@@ -123,15 +127,23 @@ pub fn wall_manifold(
     pose: &Pose,
     wall: &HalfPlane,
     p: &WallPenetration,
+    margin: f64,
 ) -> Manifold {
     let normal = wall.normal();
     let depth = (-wall.value(p.deepest)).max(0.0);
     let middle = p.deepest + p.push * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
     if blocky(shape) {
-        let inside = |q: Vec2| wall.value(q) < 0.0;
-        let ends = region_ends(shape, pose, p.deepest, inside);
-        m.add_ends(ends, min_gap(shape, shape));
+        let gap = |q: Vec2| wall.value(q);
+        m.sides(patch(
+            shape,
+            pose,
+            p.deepest,
+            normal,
+            gap,
+            margin,
+            min_gap(shape, shape),
+        ));
     }
     m
 }
@@ -152,42 +164,74 @@ fn parameter(s: &Superellipse, local: Vec2) -> f64 {
     sn.atan2(c)
 }
 
-/// Steps of the boundary walk per turn, and bisections of the last step.
+/// Steps of the boundary walk per turn, and bisections of each search.
 const WALK_STEPS: u32 = 64;
 const BISECTIONS: u32 = 14;
 
-/// The two ends of the overlap region that holds `deepest`, on `shape`'s boundary: from the
-/// deepest point's parameter both ways, the first boundary point outside the other (`inside`
-/// false), refined by bisection. `None` for a way that stays inside for half a turn (one shape
-/// deep in the other: there are no ends to hold).
-fn region_ends(
+/// Where the side points sit, from the middle of the patch to its ends.
+const SIDE: f64 = 0.8;
+
+/// The two side points of the contact patch of `shape` about `deepest` (module docs), with
+/// their separations by `gap`, or `None` when the patch is narrower than `min_gap` or has no
+/// end within half a turn either way (one shape deep in the other).
+fn patch(
     shape: &Superellipse,
     pose: &Pose,
     deepest: Vec2,
-    inside: impl Fn(Vec2) -> bool,
-) -> [Option<Vec2>; 2] {
+    normal: Vec2,
+    gap: impl Fn(Vec2) -> f64,
+    margin: f64,
+    min_gap: f64,
+) -> Option<[(Vec2, f64); 2]> {
     let t0 = parameter(shape, pose.to_local(deepest));
     let at = |t: f64| pose.to_world(shape.boundary_point(t));
     let step = std::f64::consts::TAU / f64::from(WALK_STEPS);
+    // The parameter where the separation passes `margin`, walking `way` from `t0`.
     let end = |way: f64| {
         let mut inner = t0;
         for k in 1..=WALK_STEPS / 2 {
             let t = t0 + way * step * f64::from(k);
-            if !inside(at(t)) {
+            if gap(at(t)) >= margin {
                 let mut outer = t;
                 for _ in 0..BISECTIONS {
                     let mid = 0.5 * (inner + outer);
-                    if inside(at(mid)) {
+                    if gap(at(mid)) < margin {
                         inner = mid;
                     } else {
                         outer = mid;
                     }
                 }
-                return Some(at(0.5 * (inner + outer)));
+                return Some(0.5 * (inner + outer));
             }
             inner = t;
         }
         None
     };
-    [end(-1.0), end(1.0)]
+    let (t1, t2) = (end(-1.0)?, end(1.0)?);
+    let (e1, e2) = (at(t1), at(t2));
+    if (e1 - e2).norm() <= min_gap {
+        return None;
+    }
+    // Along the patch, across the normal: the side point of each end is the boundary point
+    // whose offset from the middle is `SIDE` of the end's (by bisection on the parameter,
+    // the offset growing from the deepest point to the end).
+    let across = Vec2::new(normal.y, -normal.x);
+    let middle = (e1 + e2) * 0.5;
+    let offset = |q: Vec2| (q - middle).dot(across);
+    let side = |t_end: f64| {
+        let want = SIDE * offset(at(t_end));
+        let (mut lo, mut hi) = (t0, t_end);
+        let grows = (offset(at(hi)) - offset(at(lo))).signum();
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if (offset(at(mid)) - want) * grows < 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let q = at(0.5 * (lo + hi));
+        (q, gap(q))
+    };
+    Some([side(t1), side(t2)])
 }

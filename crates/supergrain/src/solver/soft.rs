@@ -144,6 +144,10 @@ impl Softness {
     }
 }
 
+/// A contact's patch (see [`crate::contact::manifold`]) reaches this many slops apart: Box2D's
+/// speculative distance.
+const PATCH_MARGIN: f64 = 4.0;
+
 /// No body: the wall side of a grain-wall contact.
 pub const STATIC: usize = usize::MAX;
 
@@ -502,7 +506,14 @@ fn find_contacts<B: BroadPhase>(
         }
         if let Some(p) = contact.penetration {
             let (a, b) = (&bodies[i], &bodies[j]);
-            let m = grain_manifold(&a.shape, &predicted[i], &b.shape, &predicted[j], &p);
+            let m = grain_manifold(
+                &a.shape,
+                &predicted[i],
+                &b.shape,
+                &predicted[j],
+                &p,
+                PATCH_MARGIN * settings.soft.slop,
+            );
             work.constraints
                 .push(anchored(i, j, (i, j), &m, bodies, predicted));
         }
@@ -522,7 +533,7 @@ fn find_contacts<B: BroadPhase>(
                 _ => contact_wall(&b.shape, pose, wall, &wall_precision),
             };
             if let Some(p) = c.penetration {
-                let m = wall_manifold(&b.shape, pose, wall, &p);
+                let m = wall_manifold(&b.shape, pose, wall, &p, PATCH_MARGIN * settings.soft.slop);
                 work.constraints.push(anchored(
                     STATIC,
                     i,
