@@ -225,6 +225,7 @@ impl Sim {
             settings: world.settings,
             groups: Vec::new(),
             wall_material: world.wall_material,
+            planes: world.planes.clone(),
         };
         let mut sim = Sim::new(
             Source::State {

@@ -10,7 +10,7 @@ use super::ShapeJson;
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::WarmStart;
 use crate::geometry::Vec2;
-use crate::shape::{Pose, ShapeError, Superellipse};
+use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings};
 use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
@@ -115,6 +115,14 @@ impl MaterialJson {
     }
 }
 
+/// A wall at any angle (see [`HalfPlane`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneJson {
+    pub normal: [f64; 2],
+    pub offset: f64,
+}
+
 /// The soft step's settings (see [`SoftSettings`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -135,8 +143,7 @@ pub struct SoftJson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactJson {
-    /// The grains, or a grain and `wall` (0 left, 1 right, 2 floor; planes are not in dumps
-    /// yet).
+    /// The grains, or a grain and `wall` (0 left, 1 right, 2 floor, then the planes).
     pub a: usize,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub b: Option<usize>,
@@ -222,6 +229,9 @@ pub struct Dump {
     pub materials: Vec<MaterialJson>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_material: Option<MaterialJson>,
+    /// Walls at any angle: `g = normal . p - offset`, solid where `g < 0`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub planes: Vec<PlaneJson>,
     /// The soft step's contacts kept for the next step.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactJson>,
@@ -353,6 +363,14 @@ impl Dump {
                 Vec::new()
             },
             wall_material: (s.model == Model::Soft).then(|| (&world.wall_material).into()),
+            planes: world
+                .planes
+                .iter()
+                .map(|p| PlaneJson {
+                    normal: p.normal().to_array(),
+                    offset: p.offset(),
+                })
+                .collect(),
             contacts: if s.model == Model::Soft {
                 kept_contacts(world)
             } else {
@@ -574,12 +592,28 @@ impl Dump {
         let mut world = World::from_parts(bodies, walls, settings, self.step, top, pending);
         world.materials = materials;
         world.wall_material = wall_material;
+        if self.planes.len() + 3 > MAX_WALLS {
+            return Err(DumpError::Walls(format!(
+                "at most {} planes, got {}",
+                MAX_WALLS - 3,
+                self.planes.len()
+            )));
+        }
+        for (k, p) in self.planes.iter().enumerate() {
+            let plane = HalfPlane::new(Vec2::from(p.normal), p.offset)
+                .map_err(|e| DumpError::Walls(format!("planes[{k}]: {e}")))?;
+            world.planes.push(plane);
+        }
         for (index, c) in self.contacts.iter().enumerate() {
             let bad = |why: &str| DumpError::Solver(format!("contacts[{index}]: {why}"));
             let key = match (c.b, c.wall) {
                 (Some(b), None) if c.a < b && b < n => (c.a, b),
-                (None, Some(w)) if c.a < n && w < 3 => (c.a, STATIC - w),
-                _ => return Err(bad("needs grains a < b, or a grain a and a wall 0 to 2")),
+                (None, Some(w)) if c.a < n && w < 3 + self.planes.len() => (c.a, STATIC - w),
+                _ => {
+                    return Err(bad(
+                        "needs grains a < b, or a grain a and a wall of the world",
+                    ));
+                }
             };
             let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
             let normal = c.normal_impulse.unwrap_or_default();

@@ -144,6 +144,20 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
             [0x37, 0x47, 0x4f, 255],
             3.0,
         );
+        // Planes: the part of each line across the picture.
+        let region = view.region;
+        let reach = region.diagonal();
+        for plane in &world.planes {
+            let n = plane.normal();
+            let foot = plane.project(region.center());
+            let along = Vec2::new(-n.y, n.x) * reach;
+            pen.polyline(
+                &mut pixmap,
+                &[foot - along, foot + along],
+                [0x37, 0x47, 0x4f, 255],
+                3.0,
+            );
+        }
     }
     if style.boxes {
         let boxes: Vec<Aabb> = world.bodies.iter().map(|b| b.bounding_box()).collect();

@@ -142,7 +142,7 @@ impl World {
             pending,
             materials: scene.groups.iter().map(|g| g.material).collect(),
             wall_material: scene.wall_material,
-            planes: Vec::new(),
+            planes: scene.planes.clone(),
             soft: SoftWorkspace::default(),
             step_start: Vec::new(),
             broad: AnyBroadPhase::new(scene.settings.broad_phase),

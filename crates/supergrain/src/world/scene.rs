@@ -9,7 +9,8 @@ use serde::{Deserialize, Serialize};
 
 use super::checks;
 use crate::broad_phase::Kind as BroadPhaseKind;
-use crate::shape::Superellipse;
+use crate::geometry::Vec2;
+use crate::shape::{HalfPlane, Superellipse};
 use crate::solver::soft::{Material, SoftSettings};
 use crate::solver::{Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
@@ -105,6 +106,9 @@ pub struct Scene {
     pub groups: Vec<Group>,
     /// What the walls are made of (the soft step's).
     pub wall_material: Material,
+    /// Walls at any angle besides the box's (`[[plane]]`; the soft step's), of the walls'
+    /// material.
+    pub planes: Vec<HalfPlane>,
 }
 
 /// The paper's four scenes.
@@ -186,6 +190,7 @@ impl Scene {
             },
             groups: vec![g],
             wall_material: Material::default(),
+            planes: Vec::new(),
         })
     }
 
@@ -357,6 +362,33 @@ impl Scene {
         settings.strip_width = s
             .strip_width
             .map_or_else(|| auto_strip_width(&groups), |v| v.0);
+        let mut planes = Vec::new();
+        for (k, p) in file.planes.iter().enumerate() {
+            let spec = p.get_ref();
+            let n = Vec2::new(spec.normal[0].0, spec.normal[1].0);
+            let at = Vec2::new(spec.point[0].0, spec.point[1].0);
+            let plane = HalfPlane::new(n, n.dot(at))
+                .map_err(|e| invalid(p.span(), format!("plane {}: {e}", k + 1)))?;
+            planes.push(plane);
+        }
+        if !planes.is_empty() && settings.model != Model::Soft {
+            return Err(invalid(
+                file.planes[0].span(),
+                "[[plane]] needs [solver] model = \"soft\" (the paper's projection has the box \
+                 alone)"
+                    .into(),
+            ));
+        }
+        if planes.len() + 3 > crate::solver::soft::MAX_WALLS {
+            return Err(invalid(
+                file.planes[0].span(),
+                format!(
+                    "at most {} planes, got {}",
+                    crate::solver::soft::MAX_WALLS - 3,
+                    planes.len()
+                ),
+            ));
+        }
         let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
@@ -371,6 +403,7 @@ impl Scene {
             settings,
             groups,
             wall_material: material(b.density, b.friction, b.restitution, b.rolling_resistance),
+            planes,
         };
         scene.validate()?;
         Ok(scene)
@@ -447,6 +480,17 @@ struct SceneFile {
     solver: Option<SolverSpec>,
     #[serde(rename = "group", default)]
     groups: Vec<GroupSpec>,
+    #[serde(rename = "plane", default)]
+    planes: Vec<toml::Spanned<PlaneSpec>>,
+}
+
+/// A wall at any angle: the line through `point` across `normal`, solid on the side away from
+/// the normal.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneSpec {
+    normal: [Finite; 2],
+    point: [Finite; 2],
 }
 
 #[derive(Deserialize)]
