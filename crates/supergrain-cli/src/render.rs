@@ -16,6 +16,7 @@ Examples:
   supergrain run --preset mixed --dump mixed.json
   supergrain render mixed.json -o mixed.png
   supergrain render mixed.json -o boxes.png --width 1200 --boxes --contacts --colour palette
+  supergrain render heap.json -o chains.png --forces
 
 Grains are painted by the paper's renderer: the interval quadtree classifies pixel blocks, and
 boundary pixels are anti-aliased by classifying their parts (--aa levels).")]
@@ -28,6 +29,11 @@ pub struct Args {
     output: PathBuf,
     #[command(flatten)]
     picture: PictureArgs,
+    /// Overlay force chains: a line through each contact, centre to centre (or to the wall), as
+    /// wide as its normal force is of the largest; from the forces the dump's contacts kept
+    /// (model = "soft" dumps; others have none and draw none).
+    #[arg(long)]
+    forces: bool,
 }
 
 pub fn run(args: Args) -> Result<ExitCode> {
@@ -39,6 +45,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
         .to_world()
         .with_context(|| format!("invalid state in {}", args.state.display()))?;
     let out = Output::open(Some(&args.output))?;
-    save_png(&world, &args.picture.style(), out)?;
+    if args.forces && world.settings.model != supergrain::solver::Model::Soft {
+        anyhow::bail!(
+            "--forces needs a dump of the soft model ([solver] model = \"soft\"): {} has no \
+             forces",
+            args.state.display()
+        );
+    }
+    let style = supergrain::render::Style {
+        forces: args.forces,
+        ..args.picture.style()
+    };
+    save_png(&world, &style, out)?;
     Ok(ExitCode::SUCCESS)
 }

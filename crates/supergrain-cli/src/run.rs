@@ -10,9 +10,12 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use supergrain::io::{Dump, GifWriter, TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
+use supergrain::io::{
+    Dump, FORCES_HEADER, GifWriter, TRAJECTORY_HEADER, write_forces_frame, write_trajectory_frame,
+    write_vtk_frame,
+};
 use supergrain::render::{Style, render_world, world_region, world_svg};
-use supergrain::solver::NarrowPhase;
+use supergrain::solver::{Model, NarrowPhase};
 use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Scene, World};
 
@@ -92,6 +95,10 @@ pub struct Args {
     /// Write a CSV row per grain every --every steps.
     #[arg(long, value_name = "FILE.csv")]
     trajectory: Option<PathBuf>,
+    /// Write a CSV row per contact every --every steps: its grains (or grain and wall), point,
+    /// normal and normal and tangential force (model = "soft" only).
+    #[arg(long, value_name = "FILE.csv")]
+    forces: Option<PathBuf>,
     /// Write a VTK point file per frame (every --every steps) into DIR.
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
@@ -147,6 +154,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let svg = plans.file("--svg", args.svg.as_deref())?;
     let png = plans.file("--png", args.png.as_deref())?;
     let trajectory_to = plans.file("--trajectory", args.trajectory.as_deref())?;
+    if args.forces.is_some() && world.settings.model != Model::Soft {
+        bail!(
+            "--forces needs the soft model ([solver] model = \"soft\"): the paper's projection \
+             has no forces"
+        );
+    }
+    let forces_to = plans.file("--forces", args.forces.as_deref())?;
     let gif_to = plans.file("--gif", args.gif.as_deref())?;
     let vtk = args
         .vtk
@@ -164,6 +178,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let mut trajectory = trajectory_to.as_ref().map(Target::open).transpose()?;
     if let Some(t) = trajectory.as_mut() {
         writeln!(t, "{TRAJECTORY_HEADER}")?;
+    }
+    let mut forces = forces_to.as_ref().map(Target::open).transpose()?;
+    if let Some(f) = forces.as_mut() {
+        writeln!(f, "{FORCES_HEADER}")?;
     }
     let mut gif_out = gif_to.as_ref().map(Target::open).transpose()?;
     let mut gif = match gif_out.as_mut() {
@@ -198,6 +216,14 @@ pub fn run(args: Args) -> Result<ExitCode> {
             )
         {
             *trajectory = None;
+        }
+        if let Some(f) = forces.as_mut()
+            && !failures.keep(
+                write_forces_frame(world, f)
+                    .with_context(|| format!("--forces at step {}", world.step)),
+            )
+        {
+            forces = None;
         }
         if let Some(dir) = &vtk
             && !failures.keep(write_vtk(world, dir))
@@ -303,6 +329,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(t) = trajectory {
         failures.keep(t.finish());
     }
+    if let Some(f) = forces {
+        failures.keep(f.finish());
+    }
     // A GIF that failed during the run is not renamed into place (dropped, its temporary goes).
     let gif_whole = gif.is_some();
     drop(gif);
@@ -336,6 +365,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
             world.deepest_penetration(),
             world.max_speed(),
         );
+        if let Some([[sxx, sxy], [_, syy]]) = world.stress() {
+            eprintln!(
+                "mean stress of the heap: xx {sxx:.4e}, yy {syy:.4e}, xy {sxy:.4e} (pressure \
+                 {:.4e}; compression negative)",
+                -(sxx + syy) / 2.0
+            );
+        }
         if let Some((i, at)) = escaped {
             eprintln!(
                 "the run went wrong: grain {i} left the box at step {at} (a time step too long, \

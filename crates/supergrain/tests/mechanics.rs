@@ -374,3 +374,54 @@ fn circles_by_the_analytic_narrow_phase_and_the_certified_one_agree() {
         assert!((*p - *q).norm() < 0.02, "disk {k}: {p:?} vs {q:?}");
     }
 }
+
+#[test]
+fn the_stress_of_a_column_at_rest_is_its_weight_on_its_contacts() {
+    // Five blocks in a box as wide as they are: each contact carries the weight above it, so
+    // sigma_yy = -(1/A) (sum over contacts of that weight times the branch vector's height).
+    let (hx, hy) = (0.3, 0.2);
+    let block = Superellipse::new([hx, hy], [8.0, 8.0]).unwrap();
+    let n = 5;
+    let bodies = (0..n)
+        .map(|k| grain(block, 0.0, hy + 2.0 * hy * k as f64, 0.0))
+        .collect();
+    let walls = Walls {
+        left: -1.0,
+        right: 1.0,
+        floor: 0.0,
+    };
+    let mut w = world(bodies, walls, vec![Material::default()], soft());
+    for _ in 0..240 {
+        w.step();
+    }
+    let [[sxx, sxy], [syx, syy]] = w.stress().expect("the soft model has forces");
+    let weight = block.area() * G;
+    let y: Vec<f64> = w.bodies.iter().map(|b| b.center.y).collect();
+    // The floor's contact point is at the floor, up to the slop.
+    let mut sum = n as f64 * weight * y[0];
+    for k in 1..n {
+        sum += (n - k) as f64 * weight * (y[k] - y[k - 1]);
+    }
+    let top = w.bodies[n - 1].bounding_box().max.y;
+    let want = -sum / (2.0 * top);
+    assert!(
+        (syy - want).abs() <= 0.02 * want.abs(),
+        "sigma_yy {syy}, the statics say {want}"
+    );
+    for s in [sxx, sxy, syx] {
+        assert!(
+            s.abs() <= 1e-3 * want.abs(),
+            "a column has no shear or side stress: {s}"
+        );
+    }
+    assert!(w.stress().is_some());
+    let paper = World::from_parts(
+        Vec::new(),
+        walls,
+        Settings::default(),
+        0,
+        5.0,
+        VecDeque::new(),
+    );
+    assert_eq!(paper.stress(), None);
+}

@@ -167,9 +167,16 @@ fn a_sleeping_heap_wakes_under_a_dropped_grain_and_holds_it() {
     let mut w = World::new(&scene);
     run(&mut w, 1200);
     let sleeping = w.asleep();
-    assert!(sleeping > 90, "only {sleeping} of 100 grains sleep in the rested heap");
+    assert!(
+        sleeping > 90,
+        "only {sleeping} of 100 grains sleep in the rested heap"
+    );
     // A heavy disk dropped from above the middle of the heap.
-    let top = w.bodies.iter().map(|b| b.bounding_box().max.y).fold(0.0, f64::max);
+    let top = w
+        .bodies
+        .iter()
+        .map(|b| b.bounding_box().max.y)
+        .fold(0.0, f64::max);
     let disk = supergrain::shape::Superellipse::circle(0.3).unwrap();
     let pose = supergrain::shape::Pose::new(supergrain::geometry::Vec2::new(0.0, top + 1.0), 0.0);
     let mut grain = supergrain::solver::Body::at_rest(disk, &pose.unwrap());

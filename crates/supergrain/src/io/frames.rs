@@ -98,3 +98,35 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     }
     Ok(())
 }
+
+/// The header of `run --forces`: one row per contact of the soft model.
+pub const FORCES_HEADER: &str = "step,time,a,b,wall,x,y,nx,ny,normal_force,tangent_force";
+
+/// One frame of `run --forces`: each contact's grains (`b` empty and `wall` set for a wall:
+/// 0 left, 1 right, 2 floor, then the planes), point, normal from A to B, and the normal and
+/// tangential force on B.
+pub fn write_forces_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
+    let time = world.step as f64 * world.settings.step;
+    for f in &world.soft.forces {
+        let (a, b, wall) = match f.wall {
+            Some(w) => (f.b.to_string(), String::new(), w.to_string()),
+            None => (f.a.to_string(), f.b.to_string(), String::new()),
+        };
+        writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{},{},{}",
+            world.step,
+            time,
+            a,
+            b,
+            wall,
+            f.point.x,
+            f.point.y,
+            f.normal.x,
+            f.normal.y,
+            f.normal_force,
+            f.tangent_force
+        )?;
+    }
+    Ok(())
+}

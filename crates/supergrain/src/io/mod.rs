@@ -8,7 +8,9 @@ mod json;
 mod target;
 
 pub use dump::{Dump, DumpError, ParticleJson, PendingJson, SolverJson, WallsJson};
-pub use frames::{TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
+pub use frames::{
+    FORCES_HEADER, TRAJECTORY_HEADER, write_forces_frame, write_trajectory_frame, write_vtk_frame,
+};
 pub use images::{GifWriter, to_rgba_image, write_png};
 pub use json::{ContactAnswer, ContactQuery, QueryError, ShapeJson};
 pub use target::{Destination, destination, remove_stale_temps, temp_beside};

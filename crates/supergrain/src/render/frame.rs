@@ -9,6 +9,7 @@ use super::raster::{Antialias, Rgba, View, paint_shape_with};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::PlacedSuperellipse;
 use crate::shape::Superellipse;
+use crate::solver::soft;
 use crate::world::{Touch, World};
 
 /// How grains are coloured.
@@ -45,6 +46,9 @@ pub struct Style {
     pub boxes: bool,
     /// Overlay the deepest points and penetration vectors of every contact (paper Figs. 6-8).
     pub contacts: bool,
+    /// Overlay force chains (the soft model's): a line through each contact from centre to
+    /// centre (or to the wall), its width growing with the normal force.
+    pub forces: bool,
 }
 
 impl Default for Style {
@@ -58,6 +62,7 @@ impl Default for Style {
             walls: true,
             boxes: false,
             contacts: false,
+            forces: false,
         }
     }
 }
@@ -175,7 +180,64 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
     if style.contacts {
         draw_contacts(world, &mut pixmap, &mut pen);
     }
+    if style.forces {
+        draw_forces(world, &mut pixmap, &mut pen);
+    }
     pixmap
+}
+
+/// The widest force-chain line, in pixels, for the largest normal force in the picture.
+const FORCE_WIDTH: f32 = 7.0;
+
+/// Force chains, as photoelastic disks show them: each contact a line from centre to centre
+/// (to the wall's surface for a wall), as wide as its normal force is of the largest. From the
+/// last step's forces, or, for a world read from a dump, from the impulses its contacts kept.
+fn draw_forces(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
+    let colour = [0xb7, 0x1c, 0x1c, 230];
+    let mut walls = world.walls.half_planes().to_vec();
+    walls.extend_from_slice(&world.planes);
+    let mut chains: Vec<(Vec2, Vec2, f64)> = Vec::new();
+    let line = |i: usize, j: usize, f: f64, chains: &mut Vec<(Vec2, Vec2, f64)>| {
+        let from = world.bodies[i].center;
+        let to = if j > soft::STATIC - soft::MAX_WALLS {
+            match walls.get(soft::STATIC - j) {
+                Some(w) => w.project(from),
+                None => return,
+            }
+        } else {
+            world.bodies[j].center
+        };
+        chains.push((from, to, f));
+    };
+    if world.soft.forces.is_empty() {
+        let hs = world.settings.step / f64::from(world.settings.soft.substeps.max(1));
+        for (&(i, j), k) in &world.soft.kept {
+            if i < world.bodies.len()
+                && (j < world.bodies.len() || j > soft::STATIC - soft::MAX_WALLS)
+            {
+                line(i, j, k.normal.iter().sum::<f64>() / hs, &mut chains);
+            }
+        }
+        // The kept contacts come in no particular order: drawn in one, so pictures repeat.
+        chains.sort_by(|a, b| a.2.total_cmp(&b.2));
+    } else {
+        for f in &world.soft.forces {
+            match f.wall {
+                Some(w) => line(f.b, soft::STATIC - w, f.normal_force, &mut chains),
+                None => line(f.a, f.b, f.normal_force, &mut chains),
+            }
+        }
+    }
+    let largest = chains.iter().map(|c| c.2).fold(0.0, f64::max);
+    if largest <= 0.0 {
+        return;
+    }
+    for (from, to, f) in chains {
+        let width = FORCE_WIDTH * (f / largest) as f32;
+        if width >= 0.3 {
+            pen.polyline(pixmap, &[from, to], colour, width);
+        }
+    }
 }
 
 /// Deepest points (dots) and penetration vectors (lines) of every grain-grain and grain-wall

@@ -203,6 +203,23 @@ struct Constraint {
     len: usize,
 }
 
+/// The force at one contact over the last step: the impulses of its last substep divided by
+/// the substep (a contact's force, as a DEM code reports it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactForce {
+    /// The grains; `b` is the grain and `a` [`STATIC`] for a wall, whose index is `wall`.
+    pub a: usize,
+    pub b: usize,
+    pub wall: Option<usize>,
+    /// Where the force acts (the impulse-weighted mean of the contact's points), and the normal
+    /// from A towards B (from the wall into the grain).
+    pub point: Vec2,
+    pub normal: Vec2,
+    /// On B, along the normal (>= 0) and along `(n.y, -n.x)`; A feels the opposite.
+    pub normal_force: f64,
+    pub tangent_force: f64,
+}
+
 /// What the soft step keeps between steps and reuses within one.
 #[derive(Debug, Default)]
 pub struct SoftWorkspace {
@@ -229,6 +246,8 @@ pub struct SoftWorkspace {
     /// (a sleeper's are 0: it holds its neighbours as a wall does).
     awake: Vec<bool>,
     active: Vec<(f64, f64)>,
+    /// Every contact's force over the last step, in the order of the contacts.
+    pub forces: Vec<ContactForce>,
 }
 
 impl SoftWorkspace {
@@ -347,6 +366,7 @@ pub fn step_or_stop<B: BroadPhase>(
     if sleeps {
         update_sleep(bodies, constraints, awake, settings);
     }
+    forces(bodies, hs, work);
     keep(work);
     Ok(stats)
 }
@@ -846,10 +866,48 @@ fn update_sleep(bodies: &mut [Body], constraints: &[Constraint], awake: &[bool],
     }
 }
 
+/// Each contact's force, from its last substep's impulses.
+///
+/// A contact between sleepers is not tested or solved; it keeps the force it had when they fell
+/// asleep (so a sleeping heap still reports its weight on the floor).
+fn forces(bodies: &[Body], hs: f64, work: &mut SoftWorkspace) {
+    let awake = &work.awake;
+    let asleep = |i: usize| i == STATIC || !awake.get(i).copied().unwrap_or(true);
+    let mut previous = std::mem::take(&mut work.forces);
+    previous.retain(|f| asleep(f.a) && asleep(f.b) && f.b < bodies.len());
+    work.forces = previous;
+    for c in &work.constraints {
+        let points = &c.points[..c.len];
+        let normal: f64 = points.iter().map(|p| p.normal_impulse).sum();
+        let tangent: f64 = points.iter().map(|p| p.tangent_impulse).sum();
+        let at = |p: &Point| bodies[c.b].center + p.rb;
+        let point = if normal > 0.0 {
+            points.iter().fold(Vec2::ZERO, |sum, p| {
+                sum + at(p) * (p.normal_impulse / normal)
+            })
+        } else {
+            points.iter().fold(Vec2::ZERO, |sum, p| sum + at(p)) * (1.0 / c.len as f64)
+        };
+        work.forces.push(ContactForce {
+            a: c.a,
+            b: c.b,
+            wall: (c.a == STATIC).then(|| STATIC - c.key.1),
+            point,
+            normal: c.normal,
+            normal_force: normal / hs,
+            tangent_force: tangent / hs,
+        });
+    }
+}
+
 /// Stage 5: each contact's impulses, by pair and point, for the next step's warm start.
 fn keep(work: &mut SoftWorkspace) {
     std::mem::swap(&mut work.warm, &mut work.next_warm);
-    work.kept.clear();
+    // Contacts between sleepers were not solved: they keep what they had.
+    let awake = &work.awake;
+    let asleep = |i: usize| !awake.get(i).copied().unwrap_or(true);
+    work.kept
+        .retain(|&(i, j), _| asleep(i) && (j > STATIC - MAX_WALLS || asleep(j)));
     for c in &work.constraints {
         let mut k = Kept {
             rolling: c.rolling_impulse,

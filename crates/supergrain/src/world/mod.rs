@@ -312,6 +312,42 @@ impl World {
         self.pending.is_empty()
     }
 
+    /// The mean stress tensor of the heap over the last step (the soft model's; `None` for the
+    /// paper's, whose projection has no forces): `sigma = (1/A) sum over contacts of f (x) l`,
+    /// `f` the force on one side, `l` the branch vector from the other side's centre to that
+    /// side's (for a wall, from the contact point to the grain's centre), `A` the box's width
+    /// times the height of the highest grain's top above the floor. Compression is negative.
+    pub fn stress(&self) -> Option<[[f64; 2]; 2]> {
+        if self.settings.model != Model::Soft || self.bodies.is_empty() {
+            return None;
+        }
+        let top = self
+            .bodies
+            .iter()
+            .map(|b| b.bounding_box().max.y)
+            .fold(self.walls.floor, f64::max);
+        let area = (self.walls.right - self.walls.left) * (top - self.walls.floor);
+        let mut sigma = [[0.0; 2]; 2];
+        for f in &self.soft.forces {
+            let t = Vec2::new(f.normal.y, -f.normal.x);
+            let on_b = f.normal * f.normal_force + t * f.tangent_force;
+            let from = if f.a == soft::STATIC {
+                f.point
+            } else {
+                self.bodies[f.a].center
+            };
+            let l = self.bodies[f.b].center - from;
+            let (fv, lv) = ([on_b.x, on_b.y], [l.x, l.y]);
+            for (i, row) in sigma.iter_mut().enumerate() {
+                for (j, s) in row.iter_mut().enumerate() {
+                    // Tension positive: a contact pushes its grains apart, a compression.
+                    *s -= fv[i] * lv[j] / area;
+                }
+            }
+        }
+        Some(sigma)
+    }
+
     /// The velocity of grain `i` over the last step: its displacement from where the step began.
     ///
     /// Not the solver's `center - previous_center`: grains are handled one after another, so a
