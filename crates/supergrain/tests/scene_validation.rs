@@ -306,6 +306,24 @@ fn a_dump_whose_waiting_grain_cannot_fit_is_refused() {
     assert!(e.contains("step"), "{e}");
 }
 
+/// A range whose width overflows used to abort the draw (`angle = [-1e308, 1e308]` panicked in
+/// `World::new`).
+#[test]
+fn a_range_too_wide_to_draw_from_is_refused_naming_the_field() {
+    let e = refused(&scene(
+        10.0,
+        "",
+        "count = 5\nradius = 0.3\nangle = [-1e308, 1e308]",
+    ));
+    assert!(e.contains("group `stones`") && e.contains("angle"), "{e}");
+    assert!(e.contains("too wide"), "{e}");
+    accepted(&scene(
+        10.0,
+        "",
+        "count = 5\nradius = 0.3\nangle = [-1e300, 1e300]",
+    ));
+}
+
 // ---- Runs that go wrong anyway ----
 
 fn lone(center: Vec2, previous: Vec2) -> World {

@@ -340,10 +340,11 @@ impl Scene {
     }
 
     /// Checks what the parts cannot check alone, before any work (see [`checks`]): the analytic
-    /// narrow phase needs circles only; the extremes of every drawn range make a valid shape
-    /// that fits between the walls and appears above the floor; the box holds all the grains;
-    /// a falling grain moves less than [`checks::STEP_FRACTION`] of the smallest semi-axis per
-    /// step; sleeping needs at least one calm step.
+    /// narrow phase needs circles only; every range can be drawn from; the extremes of every
+    /// drawn range make a valid shape that fits between the walls and appears above the floor;
+    /// the box holds all the grains; a falling grain moves less than
+    /// [`checks::STEP_FRACTION`] of the smallest semi-axis per step; sleeping needs at least one
+    /// calm step.
     pub fn validate(&self) -> Result<(), SceneError> {
         if self.settings.narrow_phase == NarrowPhase::Analytic
             && let Some(g) = self
@@ -362,6 +363,21 @@ impl Scene {
                 group: g.name.clone(),
                 message,
             };
+            let radius = if g.circles { "radius" } else { "semi_axes" };
+            let exponent = if g.same_exponents {
+                "exponent"
+            } else {
+                "exponents"
+            };
+            for (r, field) in [
+                (g.semi_axes[0], radius),
+                (g.semi_axes[1], radius),
+                (g.exponents[0], exponent),
+                (g.exponents[1], exponent),
+                (g.angle, "angle"),
+            ] {
+                checks::check_range(r, field).map_err(group_error)?;
+            }
             let (least, largest) = g.extreme_shapes().map_err(group_error)?;
             if g.count == 0 {
                 continue;
