@@ -7,7 +7,10 @@ mod images;
 mod json;
 mod target;
 
-pub use dump::{Dump, DumpError, ParticleJson, PendingJson, SolverJson, WallsJson};
+pub use dump::{
+    Dump, DumpError, GeneratorJson, GroupJson, ParticleJson, PendingJson, QueueJson, SolverJson,
+    WallsJson,
+};
 pub use frames::{TRAJECTORY_HEADER, write_trajectory_frame, write_vtk_frame};
 pub use images::{GifWriter, to_rgba_image, write_png};
 pub use json::{ContactAnswer, ContactQuery, QueryError, ShapeJson};

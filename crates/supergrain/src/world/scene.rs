@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use super::checks;
 use crate::broad_phase::Kind as BroadPhaseKind;
-use crate::shape::Superellipse;
+use crate::shape::{ShapeError, Superellipse};
 use crate::solver::{NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
@@ -50,12 +50,20 @@ impl Group {
     /// shape's limits are monotone in each number, so the corners bound every draw. An error
     /// names the field (`radius`, `semi_axes`, `exponent`, `exponents`).
     pub fn extreme_shapes(&self) -> Result<(Superellipse, Superellipse), String> {
+        self.extremes(|err| checks::shape_field(err, self.circles, self.same_exponents))
+    }
+
+    /// [`Group::extreme_shapes`], its errors naming the field `field` gives for the shape error.
+    pub(crate) fn extremes(
+        &self,
+        field: impl Fn(&ShapeError) -> &'static str,
+    ) -> Result<(Superellipse, Superellipse), String> {
         let [sx, sy] = self.semi_axes;
         let [ex, ey] = self.exponents;
         let ends = |r: Range| [r.lo, r.hi];
         let make = |s: [f64; 2], e: [f64; 2]| {
             Superellipse::new(s, e).map_err(|err| {
-                let field = checks::shape_field(&err, self.circles, self.same_exponents);
+                let field = field(&err);
                 format!(
                     "{field}: the range's extreme semi-axes {s:?} with exponents {e:?} make no \
                      valid shape: {err}"
