@@ -317,6 +317,18 @@ fn a_dump_whose_grains_still_to_appear_cannot_fit_is_refused() {
         e.contains("queue: waiting grain 0") && e.contains("fit"),
         "{e}"
     );
+    // Waiting beyond a wall (x = 1e13 used to be accepted, and the grain appeared there).
+    for x in [1e13, 3.9, -3.9] {
+        let mut d = a_dump();
+        d["queue"]["waiting"] = serde_json::json!([{
+            "semi_axes": [0.5, 0.5], "exponents": [2.0, 2.0], "x": x, "angle": 0.0, "due": 0
+        }]);
+        let e = refused_dump(&d);
+        assert!(
+            e.contains("queue: waiting grain 0") && e.contains("beyond the walls"),
+            "{e}"
+        );
+    }
     // Still to draw.
     let mut d = a_dump();
     d["queue"]["generator"]["groups"][0]["semi_axes"] = serde_json::json!([[0.3, 5.0], [0.3, 5.0]]);

@@ -275,7 +275,8 @@ impl Dump {
     /// Refused before any work (see [`checks`]): a non-finite number, a `step` past
     /// [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`] of its smallest
     /// semi-axis beyond a wall or inside another grain, a grain still to appear that cannot fit
-    /// between the walls or would appear in the floor, a time step too long for the grains, a
+    /// between the walls, would appear in the floor or (drawn) beyond a wall, a time step too
+    /// long for the grains, a
     /// queue whose groups cannot be drawn from (as a scene's). A dump from before the queue, with
     /// every grain still to appear in `pending`, resumes with those grains and nothing more.
     pub fn to_world(&self) -> Result<World, DumpError> {
@@ -435,6 +436,20 @@ impl Dump {
             };
             checks::check_fits(&walls, top, p.shape.bounding_radius(), &what)
                 .map_err(DumpError::Unworkable)?;
+            // Drawn, its box is between the walls; as a particle's, a little beyond is let be.
+            let pose = Pose::new(Vec2::new(p.x, top), p.angle)
+                .map_err(|e| DumpError::Unworkable(format!("{what}: {e}")))?;
+            let outside = checks::depth_outside(&walls, &p.shape.bounding_box(&pose));
+            if outside > checks::DEPTH_FRACTION * p.shape.min_semi_axis() {
+                return Err(DumpError::Unworkable(format!(
+                    "{what}: x = {} puts it {outside:.3e} beyond the walls (left {}, right {}), \
+                     more than {} x its smallest semi-axis",
+                    p.x,
+                    w.left,
+                    w.right,
+                    checks::DEPTH_FRACTION
+                )));
+            }
         }
         let generator = match self.queue.as_ref().and_then(|q| q.generator.as_ref()) {
             Some(g) => generator_of(g, &walls, top)?,
