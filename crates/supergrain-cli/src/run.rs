@@ -357,7 +357,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             "{} grains ({} still to appear), {} steps in {:.2} s: {:.1} steps/s, {:.1} contacts/step, \
              deepest remaining penetration {:.2e}, fastest grain {:.3}",
             world.bodies.len(),
-            world.pending.len(),
+            world.pending_count(),
             done,
             elapsed,
             done as f64 / elapsed.max(1e-9),
@@ -500,9 +500,9 @@ fn check_analytic(world: &World) -> Result<()> {
         if let Some(i) = world.bodies.iter().position(|b| !b.shape.is_circle()) {
             bail!("--narrow-phase analytic needs circles only, but grain {i} is not a circle");
         }
-        if let Some(i) = world.pending.iter().position(|p| !p.shape.is_circle()) {
+        if !world.pending.all_circles() {
             bail!(
-                "--narrow-phase analytic needs circles only, but grain {i} still to appear is not a circle"
+                "--narrow-phase analytic needs circles only, but grains still to appear are not all circles"
             );
         }
     }

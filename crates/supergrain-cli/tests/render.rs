@@ -165,23 +165,34 @@ fn parse_gif(d: &[u8]) -> Gif {
 }
 
 /// The picture size the dump implies: the walls and floor with a 4% margin, up to the spawn
-/// height plus the largest grain (placed or still to appear), the floor + 1 or the highest
-/// grain (circles: centre + radius), `width` pixels wide.
+/// height plus the largest grain (placed, waiting, or the largest the groups still to draw can
+/// draw), the floor + 1 or the highest grain (circles: centre + radius), `width` pixels wide.
 fn expected_size(dump: &Value, width: u32) -> (u32, u32) {
     let num = |v: &Value| v.as_f64().expect("a number");
     let w = &dump["walls"];
     let (left, right, floor) = (num(&w["left"]), num(&w["right"]), num(&w["floor"]));
     let mut largest = 0.0f64;
-    let pending = dump["pending"].as_array().cloned().unwrap_or_default();
+    let waiting = dump["queue"]["waiting"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
     for g in dump["particles"]
         .as_array()
         .expect("particles")
         .iter()
-        .chain(&pending)
+        .chain(&waiting)
     {
         let axes = g["semi_axes"].as_array().expect("semi_axes");
         assert_eq!(axes[0], axes[1], "circles only");
         largest = largest.max(num(&axes[0]));
+    }
+    let groups = dump["queue"]["generator"]["groups"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    for g in groups.iter().filter(|g| g["remaining"] != 0) {
+        assert_eq!(g["circles"], true, "circles only");
+        largest = largest.max(num(&g["semi_axes"][0][1]));
     }
     let mut top = (num(&dump["top"]) + largest).max(floor + 1.0);
     for g in dump["particles"].as_array().expect("particles") {

@@ -31,6 +31,19 @@ fn num(v: &Value) -> f64 {
     v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
 }
 
+/// How many grains a dump has still to appear: those its queue holds waiting, and those still
+/// to draw.
+fn still_to_appear(dump: &Value) -> u64 {
+    let queue = &dump["queue"];
+    let waiting = queue["waiting"].as_array().map_or(0, Vec::len) as u64;
+    let to_draw: u64 = queue["generator"]["groups"].as_array().map_or(0, |gs| {
+        gs.iter()
+            .map(|g| g["remaining"].as_u64().expect("remaining"))
+            .sum()
+    });
+    waiting + to_draw
+}
+
 fn pair(v: &Value) -> [f64; 2] {
     let a = v.as_array().unwrap_or_else(|| panic!("not an array: {v}"));
     assert_eq!(a.len(), 2, "not a pair: {v}");
@@ -308,35 +321,85 @@ fn circles_preset_dump_has_the_paper_scene_and_follows_the_spawn_schedule() {
 
     // The spawn schedule: grain k of the queue is due at step 20 k, and a grain appears during
     // a step whose count (0-based) is at least its due step, so at most (steps - 1) / 20 + 1 have
-    // appeared; the others wait in `pending`, with their due steps, and the preset has 35.
-    let pending = dump["pending"].as_array().expect("pending");
-    assert_eq!(gs.len() + pending.len(), 35, "grains lost or invented");
+    // appeared. Grains are drawn when due, no earlier: the queue's generator is at that grain,
+    // the others wait in `queue.waiting` with their due steps, and the preset has 35.
+    let queue = &dump["queue"];
+    let waiting = queue["waiting"].as_array().cloned().unwrap_or_default();
+    let generator = &queue["generator"];
+    let groups = generator["groups"].as_array().expect("groups");
+    assert_eq!(groups.len(), 1, "{generator}");
+    let remaining = groups[0]["remaining"].as_u64().expect("remaining");
+    assert_eq!(
+        gs.len() as u64 + waiting.len() as u64 + remaining,
+        35,
+        "grains lost or invented"
+    );
     let due_max = (steps - 1) / 20 + 1;
+    assert_eq!(generator["next"].as_u64(), Some(due_max), "{generator}");
+    assert_eq!(gs.len() + waiting.len(), due_max as usize);
     assert!(
-        gs.len() as u64 <= due_max && gs.len() as u64 >= due_max / 2,
+        gs.len() as u64 >= due_max / 2,
         "{} grains appeared in {steps} steps, expected about {due_max}",
         gs.len()
     );
-    let dues: Vec<u64> = pending
+    let dues: Vec<u64> = waiting
         .iter()
         .map(|q| q["due"].as_u64().expect("due"))
         .collect();
     assert!(dues.windows(2).all(|w| w[0] < w[1]), "dues {dues:?}");
-    assert!(
-        dues.iter().all(|d| d % 20 == 0 && *d <= 34 * 20),
-        "{dues:?}"
-    );
-    // Every grain due after the last step is still pending.
-    let late: Vec<u64> = (0..35).map(|k| k * 20).filter(|d| *d >= steps).collect();
-    assert!(
-        late.iter().all(|d| dues.contains(d)),
-        "late grains appeared early: pending dues {dues:?}"
-    );
-    for q in pending {
+    assert!(dues.iter().all(|d| d % 20 == 0 && *d < steps), "{dues:?}");
+    for q in &waiting {
         let [sx, sy] = pair(&q["semi_axes"]);
-        assert!(sx == sy && (0.3..=0.7).contains(&sx), "pending grain {q}");
+        assert!(sx == sy && (0.3..=0.7).contains(&sx), "waiting grain {q}");
         assert_eq!(pair(&q["exponents"]), [2.0, 2.0]);
     }
+    // The grains still to draw, as the preset has them.
+    let g = &groups[0];
+    assert_eq!(g["circles"], true);
+    assert_eq!(g["semi_axes"], serde_json::json!([[0.3, 0.7], [0.3, 0.7]]));
+    assert_eq!(g["exponents"], serde_json::json!([[2.0, 2.0], [2.0, 2.0]]));
+    assert_eq!(
+        (
+            generator["spawn_interval"].as_u64(),
+            generator["spawn_count"].as_u64()
+        ),
+        (Some(20), Some(1))
+    );
+}
+
+/// Issue 17, section 5: ten million grains still to appear made a 20-step `run` take 1.5 GB and
+/// write a 1.4 GB dump (the issue's figures). The dump is now the grains that appeared and a
+/// queue of a few hundred bytes, and the summary counts the others.
+#[test]
+fn a_run_with_ten_million_grains_still_to_appear_writes_a_small_dump() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let scene = write_scene(
+        dir.path(),
+        "sand.toml",
+        "seed = 3\nsteps = 20\n\n[box]\nleft = -200.0\nright = 200.0\nfloor = 0.0\ntop = 300.0\n\n\
+         [spawn]\ninterval = 1\ncount = 50\n\n[[group]]\nname = \"sand\"\ncount = 10000000\n\
+         radius = 0.05\n",
+    );
+    let dump_path = dir.path().join("sand.json");
+    let err = ok(&sg(&["run", p(&scene), "--dump", p(&dump_path)]));
+    let text = read(&dump_path);
+    let dump: Value = serde_json::from_str(&text).expect("JSON");
+    let n = grains(&dump).len();
+    assert!(n >= 500, "{n} grains appeared");
+    let particles = serde_json::to_string(&dump["particles"]).unwrap().len();
+    assert!(
+        text.len() < 100_000 + particles,
+        "a dump of {} bytes, {particles} of them the {n} grains",
+        text.len()
+    );
+    assert_eq!(still_to_appear(&dump), 10_000_000 - n as u64);
+    assert!(
+        err.starts_with(&format!(
+            "{n} grains ({} still to appear), 20 steps",
+            10_000_000 - n
+        )),
+        "{err}"
+    );
 }
 
 #[test]
@@ -615,7 +678,10 @@ fn resuming_a_dump_continues_the_run_exactly() {
         // The break must be somewhere interesting.
         let b_json = read_json(&b);
         if name == "preset" {
-            assert!(!b_json["pending"].as_array().expect("pending").is_empty());
+            assert!(
+                still_to_appear(&b_json) > 0,
+                "all grains there at the break"
+            );
         } else {
             assert!(
                 grains(&b_json).iter().any(|g| g.velocity != [0.0, 0.0]),
@@ -1060,7 +1126,7 @@ fn analytic_resume_rejects_ellipses_still_to_appear() {
     ]));
     let d = read_json(&dump);
     assert!(grains(&d).is_empty());
-    assert_eq!(d["pending"].as_array().map(Vec::len), Some(35));
+    assert_eq!(still_to_appear(&d), 35);
     let err = fails_leaving_nothing(
         dir.path(),
         &[
@@ -1249,7 +1315,7 @@ fn summary_reports_the_final_state_and_quiet_suppresses_it() {
     assert_eq!(err.lines().count(), 1, "{err:?}");
     let dump = read_json(&loud);
     let n = grains(&dump).len();
-    let pending = dump["pending"].as_array().expect("pending").len();
+    let pending = still_to_appear(&dump);
     assert!(
         err.starts_with(&format!(
             "{n} grains ({pending} still to appear), 300 steps"

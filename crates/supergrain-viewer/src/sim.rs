@@ -60,8 +60,8 @@ impl Tuning {
     }
 }
 
-/// The spawn rule a user can change; it applies from the next reset, since the queue of grains
-/// is drawn when a world is made.
+/// The spawn rule a user can change; it applies from the next reset, since a world's spawn
+/// queue takes the rule when the world is made.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Spawn {
     /// Steps between two grains.
@@ -154,7 +154,7 @@ pub struct Snapshot {
     pub spawn: Option<Spawn>,
     pub overlays: Overlays,
     pub drop_shape: DropShape,
-    pub pending: usize,
+    pub pending: u64,
     pub asleep: usize,
     /// Grain-grain contacts: the pair's penetration.
     pub contacts: Vec<Penetration>,
@@ -510,7 +510,7 @@ impl Sim {
             }),
             overlays: self.overlays,
             drop_shape: self.drop_shape,
-            pending: world.pending.len(),
+            pending: world.pending_count(),
             asleep: world.asleep(),
             message: self.message.clone(),
             held: self.held.map(|(i, _)| i),

@@ -3,20 +3,18 @@
 //! a column and a pyramid of blocks that stand. Each compares with a closed form, not with the
 //! code's own output.
 
-use std::collections::VecDeque;
-
 use supergrain::geometry::Vec2;
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
 use supergrain::solver::soft::Material;
 use supergrain::solver::{Body, Model, NarrowPhase, Settings, Walls};
-use supergrain::world::World;
+use supergrain::world::{Queue, World};
 
 const G: f64 = 9.8;
 
 /// A world of the soft model with the given grains, materials by group, a box far wider than
 /// the test needs unless `walls` say otherwise.
 fn world(bodies: Vec<Body>, walls: Walls, materials: Vec<Material>, settings: Settings) -> World {
-    let mut w = World::from_parts(bodies, walls, settings, 0, 50.0, VecDeque::new());
+    let mut w = World::from_parts(bodies, walls, settings, 0, 50.0, Queue::default());
     w.materials = materials;
     w
 }
@@ -421,7 +419,7 @@ fn the_stress_of_a_column_at_rest_is_its_weight_on_its_contacts() {
         Settings::default(),
         0,
         5.0,
-        VecDeque::new(),
+        Queue::default(),
     );
     assert_eq!(paper.stress(), None);
 }

@@ -916,15 +916,23 @@ fn render_world_paints_grains_on_the_background() {
     let pixmap = render_world(&world, &style);
 
     // The region, written again from its definition: walls and floor with a 4% margin, up to the
-    // spawn height plus the largest grain (circles: its radius), or the highest grain.
+    // spawn height plus the largest grain placed or that can still appear (circles: its radius;
+    // the grains still to draw, by the largest of the preset's radii, 0.7), or the highest grain.
     let w = world.walls;
     let margin = 0.04 * (w.right - w.left);
+    assert!(world.pending.generator().is_some(), "grains still to draw");
     let largest = world
         .bodies
         .iter()
         .map(|b| b.shape.semi_axes().x)
-        .chain(world.pending.iter().map(|p| p.shape.semi_axes().x))
-        .fold(0.0, f64::max);
+        .chain(
+            world
+                .pending
+                .waiting()
+                .iter()
+                .map(|p| p.shape.semi_axes().x),
+        )
+        .fold(0.7, f64::max);
     let highest = world
         .bodies
         .iter()

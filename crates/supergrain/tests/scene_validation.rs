@@ -250,7 +250,7 @@ fn a_dump_with_a_byte_order_mark_reads_as_without() {
     let plain = Dump::from_json(&text).unwrap();
     let marked = Dump::from_json(&format!("\u{feff}{text}")).unwrap();
     assert_eq!(plain, marked);
-    assert_eq!(plain.particles.len(), 12);
+    assert_eq!(plain.particles.len(), 11);
 }
 
 #[test]
@@ -293,17 +293,145 @@ fn a_dump_with_deeply_overlapping_grains_is_refused_naming_them() {
     );
 }
 
+/// The error of a dump refused.
+fn refused_dump(d: &serde_json::Value) -> String {
+    to_world(d).expect_err("accepted").to_string()
+}
+
 #[test]
-fn a_dump_whose_waiting_grain_cannot_fit_is_refused() {
+fn a_dump_whose_grains_still_to_appear_cannot_fit_is_refused() {
+    let big = serde_json::json!({
+        "semi_axes": [5.0, 5.0], "exponents": [2.0, 2.0], "x": 0.0, "angle": 0.0, "due": 400
+    });
+    // In the list of a dump from before the queue.
     let mut d = a_dump();
-    assert!(!d["pending"].as_array().unwrap().is_empty());
-    d["pending"][0]["semi_axes"] = serde_json::json!([5.0, 5.0]);
-    let e = to_world(&d).expect_err("accepted").to_string();
+    d.as_object_mut().unwrap().remove("queue");
+    d["pending"] = serde_json::json!([big]);
+    let e = refused_dump(&d);
     assert!(e.contains("pending grain 0") && e.contains("fit"), "{e}");
+    // Waiting in the queue.
+    let mut d = a_dump();
+    d["queue"]["waiting"] = serde_json::json!([big]);
+    let e = refused_dump(&d);
+    assert!(
+        e.contains("queue: waiting grain 0") && e.contains("fit"),
+        "{e}"
+    );
+    // Waiting beyond a wall (x = 1e13 used to be accepted, and the grain appeared there).
+    for x in [1e13, 3.9, -3.9] {
+        let mut d = a_dump();
+        d["queue"]["waiting"] = serde_json::json!([{
+            "semi_axes": [0.5, 0.5], "exponents": [2.0, 2.0], "x": x, "angle": 0.0, "due": 0
+        }]);
+        let e = refused_dump(&d);
+        assert!(
+            e.contains("queue: waiting grain 0") && e.contains("beyond the walls"),
+            "{e}"
+        );
+    }
+    // Still to draw.
+    let mut d = a_dump();
+    d["queue"]["generator"]["groups"][0]["semi_axes"] = serde_json::json!([[0.3, 5.0], [0.3, 5.0]]);
+    let e = refused_dump(&d);
+    assert!(
+        e.contains("queue: generator: group 0 (`circles`): semi_axes") && e.contains("fit"),
+        "{e}"
+    );
     let mut d = a_dump();
     d["solver"]["step"] = serde_json::json!(0.5);
-    let e = to_world(&d).expect_err("accepted").to_string();
+    let e = refused_dump(&d);
     assert!(e.contains("step"), "{e}");
+}
+
+/// The queue of a dump is checked as a scene's groups are, each error naming the field.
+#[test]
+fn a_dump_whose_queue_cannot_be_drawn_from_is_refused_naming_the_field() {
+    let d = a_dump();
+    assert!(to_world(&d).is_ok());
+    let generator = &d["queue"]["generator"];
+    assert_eq!(generator["groups"][0]["remaining"], 20, "{generator}");
+    let with = |path: &[&str], value: serde_json::Value| {
+        let mut d = d.clone();
+        let mut at = &mut d;
+        for key in path {
+            at = match key.parse::<usize>() {
+                Ok(i) => &mut at[i],
+                Err(_) => &mut at[*key],
+            };
+        }
+        *at = value;
+        refused_dump(&d)
+    };
+    let group = ["queue", "generator", "groups", "0"];
+    let field = |name: &'static str| [&group[..], &[name]].concat();
+    for (path, value, words) in [
+        (
+            field("semi_axes"),
+            serde_json::json!([[0.7, 0.3], [0.3, 0.7]]),
+            vec!["group 0 (`circles`): semi_axes", "empty"],
+        ),
+        (
+            field("exponents"),
+            serde_json::json!([[0.0, 2.0], [2.0, 2.0]]),
+            vec!["group 0 (`circles`): exponents", "no valid shape"],
+        ),
+        (
+            field("angle"),
+            serde_json::json!([-1e308, 1e308]),
+            vec!["group 0 (`circles`): angle", "too wide"],
+        ),
+        (
+            field("remaining"),
+            serde_json::json!(u32::MAX),
+            vec!["queue: generator", "cannot hold 4294967295 grains"],
+        ),
+        (
+            vec!["queue", "generator", "next"],
+            serde_json::json!(u64::MAX),
+            vec!["queue: generator", "next (18446744073709551615)"],
+        ),
+        (
+            vec!["queue", "generator", "spawn_count"],
+            serde_json::json!(0),
+            vec!["queue: generator", "spawn_count must be at least 1"],
+        ),
+        (
+            vec!["pending"],
+            serde_json::json!([{
+                "semi_axes": [0.5, 0.5], "exponents": [2.0, 2.0], "x": 0.0, "angle": 0.0, "due": 0
+            }]),
+            vec!["queue", "pending", "not both"],
+        ),
+    ] {
+        let e = with(&path, value);
+        for w in words {
+            assert!(e.contains(w), "{path:?}: {e}");
+        }
+    }
+    // A field the queue does not have.
+    let mut d = a_dump();
+    d["queue"]["generator"]["colour"] = serde_json::json!("red");
+    let text = serde_json::to_string(&d).unwrap();
+    let e = Dump::from_json(&text).expect_err("accepted").to_string();
+    assert!(e.contains("colour"), "{e}");
+}
+
+/// A range whose width overflows used to abort the draw (`angle = [-1e308, 1e308]` panicked in
+/// `World::new`).
+#[test]
+fn a_range_too_wide_to_draw_from_is_refused_naming_the_field() {
+    let e = refused(&scene(
+        10.0,
+        "",
+        "count = 5\nradius = 0.3\nangle = [-1e308, 1e308]",
+    ));
+    assert!(e.contains("group `stones`") && e.contains("angle"), "{e}");
+    assert!(e.contains("too wide"), "{e}");
+    accepted(&scene(
+        10.0,
+        "",
+        "count = 5\nradius = 0.3\nangle = [-1e300, 1e300]",
+    ));
 }
 
 // ---- Runs that go wrong anyway ----

@@ -1,6 +1,6 @@
 //! The state dump: `{"walls": {...}, "particles": [...]}` with each particle in the SHAPE form
 //! plus its velocity, and, for exact restarts, the solver state the velocity cannot carry
-//! (previous pose, step, settings, grains still to appear).
+//! (previous pose, step, settings, the spawn queue of the grains still to appear).
 
 use std::collections::VecDeque;
 
@@ -14,7 +14,7 @@ use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings};
 use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
-use crate::world::{Pending, Touch, World, checks};
+use crate::world::{Generator, Group, Pending, Queue, Range, Touch, World, checks};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -160,7 +160,7 @@ pub struct ContactJson {
     pub warm: Vec<[f64; 2]>,
 }
 
-/// A grain that has not appeared yet.
+/// A grain drawn that has not appeared yet.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PendingJson {
@@ -172,6 +172,49 @@ pub struct PendingJson {
     /// Absent: 0.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub group: u32,
+}
+
+/// The spawn queue (see [`Queue`]): the grains drawn and waiting for their place, then those
+/// still to draw.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QueueJson {
+    /// In queue order; absent: none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub waiting: Vec<PendingJson>,
+    /// Absent: nothing more to draw.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub generator: Option<GeneratorJson>,
+}
+
+/// The grains still to draw (see [`Generator`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeneratorJson {
+    /// The scene's seed.
+    pub seed: u64,
+    /// The queue index of the next grain to draw: it draws from that stream of the seeded
+    /// generator, and is due at step `next / spawn_count * spawn_interval`.
+    pub next: u64,
+    pub spawn_interval: u32,
+    pub spawn_count: u32,
+    /// The scene's groups, in its order (a grain's `group` counts in it).
+    pub groups: Vec<GroupJson>,
+}
+
+/// A scene group and how many of its grains are still to draw. Ranges are `[lo, hi]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupJson {
+    pub name: String,
+    pub remaining: u32,
+    pub semi_axes: [[f64; 2]; 2],
+    /// Both semi-axes from one draw.
+    pub circles: bool,
+    pub exponents: [[f64; 2]; 2],
+    /// Both exponents from one draw.
+    pub same_exponents: bool,
+    pub angle: [f64; 2],
 }
 
 /// The solver settings, as in a scene file's `[solver]`.
@@ -222,6 +265,11 @@ pub struct Dump {
     pub top: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<SolverJson>,
+    /// The grains still to appear; absent: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub queue: Option<QueueJson>,
+    /// Dumps from before the queue: every grain still to appear, drawn, in queue order. Read,
+    /// never written.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pending: Vec<PendingJson>,
     /// Each group's material (the soft step's), by group; absent: the default material.
@@ -244,6 +292,11 @@ pub enum DumpError {
     Particle { index: usize, error: ShapeError },
     #[error("pending grain {index}: {error}")]
     Pending { index: usize, error: ShapeError },
+    #[error("queue: waiting grain {index}: {error}")]
+    Waiting { index: usize, error: ShapeError },
+    /// A spawn queue that cannot be drawn from; the message names the field.
+    #[error("queue: {0}")]
+    Queue(String),
     #[error("walls: {0}")]
     Walls(String),
     #[error("solver: {0}")]
@@ -345,18 +398,8 @@ impl Dump {
                     }
                 }),
             }),
-            pending: world
-                .pending
-                .iter()
-                .map(|p| PendingJson {
-                    semi_axes: p.shape.semi_axes().to_array(),
-                    exponents: p.shape.exponents(),
-                    x: p.x,
-                    angle: p.angle,
-                    due: p.due,
-                    group: p.group,
-                })
-                .collect(),
+            queue: (!world.pending.is_empty()).then(|| queue_json(&world.pending)),
+            pending: Vec::new(),
             materials: if s.model == Model::Soft {
                 world.materials.iter().map(MaterialJson::from).collect()
             } else {
@@ -384,7 +427,10 @@ impl Dump {
     /// Refused before any work (see [`checks`]): a non-finite number, a `step` past
     /// [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`] of its smallest
     /// semi-axis beyond a wall or inside another grain, a grain still to appear that cannot fit
-    /// between the walls or would appear in the floor, a time step too long for the grains.
+    /// between the walls, would appear in the floor or (drawn) beyond a wall, a time step too
+    /// long for the grains, a
+    /// queue whose groups cannot be drawn from (as a scene's). A dump from before the queue, with
+    /// every grain still to appear in `pending`, resumes with those grains and nothing more.
     pub fn to_world(&self) -> Result<World, DumpError> {
         if self.step > checks::MAX_STEP {
             return Err(DumpError::Step(self.step));
@@ -535,13 +581,29 @@ impl Dump {
             bodies.push(body);
             velocities.push(v);
         }
-        let mut pending = VecDeque::with_capacity(self.pending.len());
-        for (index, p) in self.pending.iter().enumerate() {
-            let shape = Superellipse::new(p.semi_axes, p.exponents)
-                .map_err(|error| DumpError::Pending { index, error })?;
-            Pose::new(Vec2::new(p.x, 0.0), p.angle)
-                .map_err(|error| DumpError::Pending { index, error })?;
-            pending.push_back(Pending {
+        // The grains drawn: a dump's queue's waiting grains, or the whole list of an older dump.
+        let (listed, old) = match &self.queue {
+            Some(_) if !self.pending.is_empty() => {
+                return Err(DumpError::Queue(
+                    "a dump holds `queue` or, as dumps before the queue did, `pending`, not both"
+                        .into(),
+                ));
+            }
+            Some(q) => (&q.waiting, false),
+            None => (&self.pending, true),
+        };
+        let mut waiting = VecDeque::with_capacity(listed.len());
+        for (index, p) in listed.iter().enumerate() {
+            let error = |error| {
+                if old {
+                    DumpError::Pending { index, error }
+                } else {
+                    DumpError::Waiting { index, error }
+                }
+            };
+            let shape = Superellipse::new(p.semi_axes, p.exponents).map_err(error)?;
+            Pose::new(Vec2::new(p.x, 0.0), p.angle).map_err(error)?;
+            waiting.push_back(Pending {
                 shape,
                 x: p.x,
                 angle: p.angle,
@@ -560,20 +622,38 @@ impl Dump {
         }
         checks::check_box(&walls, top).map_err(DumpError::Walls)?;
         checks::check_sleep(&settings).map_err(DumpError::Unworkable)?;
-        for (index, p) in pending.iter().enumerate() {
-            checks::check_fits(
-                &walls,
-                top,
-                p.shape.bounding_radius(),
-                &format!("pending grain {index}"),
-            )
-            .map_err(DumpError::Unworkable)?;
+        for (index, p) in waiting.iter().enumerate() {
+            let what = if old {
+                format!("pending grain {index}")
+            } else {
+                format!("queue: waiting grain {index}")
+            };
+            checks::check_fits(&walls, top, p.shape.bounding_radius(), &what)
+                .map_err(DumpError::Unworkable)?;
+            // Drawn, its box is between the walls; as a particle's, a little beyond is let be.
+            let pose = Pose::new(Vec2::new(p.x, top), p.angle)
+                .map_err(|e| DumpError::Unworkable(format!("{what}: {e}")))?;
+            let outside = checks::depth_outside(&walls, &p.shape.bounding_box(&pose));
+            if outside > checks::DEPTH_FRACTION * p.shape.min_semi_axis() {
+                return Err(DumpError::Unworkable(format!(
+                    "{what}: x = {} puts it {outside:.3e} beyond the walls (left {}, right {}), \
+                     more than {} x its smallest semi-axis",
+                    p.x,
+                    w.left,
+                    w.right,
+                    checks::DEPTH_FRACTION
+                )));
+            }
         }
+        let generator = match self.queue.as_ref().and_then(|q| q.generator.as_ref()) {
+            Some(g) => generator_of(g, &walls, top)?,
+            None => None,
+        };
+        let pending = Queue::from_parts(waiting, generator);
         let smallest = bodies
             .iter()
             .map(|b| b.shape.min_semi_axis())
-            .chain(pending.iter().map(|p| p.shape.min_semi_axis()))
-            .fold(f64::INFINITY, f64::min);
+            .fold(pending.smallest_semi_axis(), f64::min);
         if smallest.is_finite() {
             checks::check_time_step(&settings, top - w.floor, smallest)
                 .map_err(DumpError::Unworkable)?;
@@ -733,4 +813,112 @@ fn positive(name: &str, v: f64) -> Result<f64, DumpError> {
             "{name} must be a finite number > 0, got {v}"
         )))
     }
+}
+
+/// The queue of a world, as JSON.
+fn queue_json(queue: &Queue) -> QueueJson {
+    let pair = |r: Range| [r.lo, r.hi];
+    QueueJson {
+        waiting: queue
+            .waiting()
+            .iter()
+            .map(|p| PendingJson {
+                semi_axes: p.shape.semi_axes().to_array(),
+                exponents: p.shape.exponents(),
+                x: p.x,
+                angle: p.angle,
+                due: p.due,
+                group: p.group,
+            })
+            .collect(),
+        generator: queue.generator().map(|g| GeneratorJson {
+            seed: g.seed(),
+            next: g.next(),
+            spawn_interval: g.spawn_interval(),
+            spawn_count: g.spawn_count(),
+            groups: g
+                .groups()
+                .iter()
+                .map(|group| GroupJson {
+                    name: group.name.clone(),
+                    remaining: group.count,
+                    semi_axes: group.semi_axes.map(pair),
+                    circles: group.circles,
+                    exponents: group.exponents.map(pair),
+                    same_exponents: group.same_exponents,
+                    angle: pair(group.angle),
+                })
+                .collect(),
+        }),
+    }
+}
+
+/// The grains a dump still has to draw, checked as a scene's groups are (see
+/// [`crate::world::Scene::validate`]): ranges that can be drawn from, whose corners make valid
+/// shapes that fit between the walls and appear above the floor, no more grains than the box
+/// holds; and a count that cannot overflow the queue's index. Errors name the field.
+fn generator_of(
+    g: &GeneratorJson,
+    walls: &Walls,
+    top: f64,
+) -> Result<Option<Generator>, DumpError> {
+    let fail = |message: String| DumpError::Queue(format!("generator: {message}"));
+    if g.spawn_count == 0 {
+        return Err(fail("spawn_count must be at least 1".into()));
+    }
+    let mut groups = Vec::with_capacity(g.groups.len());
+    let (mut remaining, mut area) = (0u64, 0.0);
+    for (i, j) in g.groups.iter().enumerate() {
+        let group_fail = |message: String| fail(format!("group {i} (`{}`): {message}", j.name));
+        let range = |field: &str, [lo, hi]: [f64; 2]| {
+            let r = Range::new(lo, hi);
+            checks::check_range(r, field)
+                .map(|()| r)
+                .map_err(group_fail)
+        };
+        let group = Group {
+            name: j.name.clone(),
+            count: j.remaining,
+            semi_axes: [
+                range("semi_axes", j.semi_axes[0])?,
+                range("semi_axes", j.semi_axes[1])?,
+            ],
+            circles: j.circles,
+            exponents: [
+                range("exponents", j.exponents[0])?,
+                range("exponents", j.exponents[1])?,
+            ],
+            same_exponents: j.same_exponents,
+            angle: range("angle", j.angle)?,
+            // The queue draws shapes only; the groups' materials are the dump's `materials`.
+            material: Material::default(),
+        };
+        // Fields named as the dump writes them (`semi_axes`, `exponents`), whatever the flags.
+        let (least, largest) = group
+            .extremes(|e| checks::shape_field(e, false, false))
+            .map_err(group_fail)?;
+        if group.count > 0 {
+            checks::check_fits(walls, top, largest.bounding_radius(), "semi_axes")
+                .map_err(group_fail)?;
+            area += f64::from(group.count) * least.area();
+        }
+        remaining += u64::from(group.count);
+        groups.push(group);
+    }
+    if g.next.checked_add(remaining).is_none() {
+        return Err(fail(format!(
+            "next ({}) plus the {remaining} grains still to draw overflows the queue's index",
+            g.next
+        )));
+    }
+    // The grains still to draw alone, as a scene's: a run's dump always passes.
+    checks::check_capacity(walls, top, remaining, area).map_err(fail)?;
+    Ok(Generator::new(
+        g.seed,
+        g.next,
+        g.spawn_interval,
+        g.spawn_count,
+        *walls,
+        groups,
+    ))
 }

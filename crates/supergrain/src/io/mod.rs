@@ -7,7 +7,10 @@ mod images;
 mod json;
 mod target;
 
-pub use dump::{Dump, DumpError, ParticleJson, PendingJson, SolverJson, WallsJson};
+pub use dump::{
+    Dump, DumpError, GeneratorJson, GroupJson, ParticleJson, PendingJson, QueueJson, SolverJson,
+    WallsJson,
+};
 pub use frames::{
     FORCES_HEADER, TRAJECTORY_HEADER, write_forces_frame, write_trajectory_frame, write_vtk_frame,
 };

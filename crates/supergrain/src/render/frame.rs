@@ -92,8 +92,9 @@ const PALETTE: [Rgba; 8] = [
     [0xc0, 0xca, 0x33, 255],
 ];
 
-/// The default region of a world: the box up to where grains appear plus the largest grain
-/// (so a grain appearing is whole), or up to the highest grain if one is above that.
+/// The default region of a world: the box up to where grains appear plus the largest grain,
+/// placed or that can still appear (so a grain appearing is whole), or up to the highest grain
+/// if one is above that.
 pub fn world_region(world: &World) -> Aabb {
     let w = world.walls;
     let highest = world
@@ -105,8 +106,7 @@ pub fn world_region(world: &World) -> Aabb {
         .bodies
         .iter()
         .map(|b| b.shape.bounding_radius())
-        .chain(world.pending.iter().map(|p| p.shape.bounding_radius()))
-        .fold(0.0, f64::max);
+        .fold(world.pending.largest_bounding_radius(), f64::max);
     let top = (world.top + largest).max(highest).max(w.floor + 1.0);
     let margin = 0.04 * (w.right - w.left);
     Aabb::new(

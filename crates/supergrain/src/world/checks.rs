@@ -4,6 +4,7 @@
 //! The scene ([`super::Scene::validate`]) and the dump ([`crate::io::Dump::to_world`]) share
 //! these, so both refuse the same things with the same words.
 
+use super::Range;
 use crate::geometry::Aabb;
 use crate::shape::ShapeError;
 use crate::solver::{Settings, Walls};
@@ -144,6 +145,33 @@ pub fn short(x: f64) -> String {
         let s = format!("{x:.4}");
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     }
+}
+
+/// Refuses a range (of the field `what`) that cannot be drawn from uniformly: an end not
+/// finite, `lo > hi`, or ends so far apart that the width overflows (the draw would fail).
+pub fn check_range(r: Range, what: &str) -> Result<(), String> {
+    let (lo, hi) = (r.lo, r.hi);
+    // Exact, in exponent form when large (1e308 has 309 digits).
+    let exact = |x: f64| {
+        if x.abs() >= 1e6 && x.is_finite() {
+            format!("{x:e}")
+        } else {
+            format!("{x}")
+        }
+    };
+    let range = format!("[{}, {}]", exact(lo), exact(hi));
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(format!("{what}: the range {range} needs finite ends"));
+    }
+    if lo > hi {
+        return Err(format!("{what}: the range {range} is empty: lo > hi"));
+    }
+    if !(hi - lo).is_finite() {
+        return Err(format!(
+            "{what}: the range {range} is too wide to draw from (hi - lo overflows)"
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses more grain area than the box can hold up to `top` (at [`PACKING`]); `area` is the

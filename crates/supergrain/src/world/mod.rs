@@ -3,37 +3,21 @@
 
 pub mod checks;
 mod scene;
+mod spawn;
 
-use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use scene::{Group, PRESETS, Range, Scene, SceneError};
-
-use rand::seq::SliceRandom;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+pub use spawn::{Generator, Pending, Queue};
 
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::shape::{HalfPlane, Pose};
 use crate::solver::soft::{self, Material, SoftWorkspace};
 use crate::solver::{
     self, Body, Model, Settings, StepStats, Stopped, Walls, Workspace, grain_contact, wall_contact,
 };
-
-/// A grain waiting to appear: its shape and pose are drawn when the world is made, so a run
-/// depends only on the scene and its seed.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pending {
-    pub shape: Superellipse,
-    pub x: f64,
-    pub angle: f64,
-    /// The first step at which it may appear.
-    pub due: u64,
-    /// Its scene group (see [`Body::group`]).
-    pub group: u32,
-}
 
 /// Grains, walls, settings and the spawn queue.
 #[derive(Debug)]
@@ -45,7 +29,8 @@ pub struct World {
     pub step: u64,
     /// Height at which grains appear.
     pub top: f64,
-    pub pending: VecDeque<Pending>,
+    /// The grains still to appear.
+    pub pending: Queue,
     /// Each scene group's material, by [`Body::group`] (the soft step's; see
     /// [`soft::Material`]).
     pub materials: Vec<Material>,
@@ -68,78 +53,21 @@ pub struct World {
 struct Undo {
     bodies: Vec<Body>,
     step_start: Vec<Vec2>,
-    /// The grains the step's spawn took from the queue, with the index each was taken from,
-    /// in the order taken.
-    spawned: Vec<(usize, Pending)>,
+    /// What the step's spawn changed in the queue.
+    spawned: spawn::Taken,
 }
 
 impl World {
-    /// The world of a scene at step 0, its spawn queue drawn from the scene's seed.
+    /// The world of a scene at step 0: no grain yet, every grain of the scene still to draw
+    /// (from the scene's seed, each when it is due, see [`Queue`]).
     pub fn new(scene: &Scene) -> World {
-        let mut rng = ChaCha8Rng::seed_from_u64(scene.seed);
-        let draw = |rng: &mut ChaCha8Rng, r: Range| {
-            if r.lo < r.hi {
-                rng.random_range(r.lo..=r.hi)
-            } else {
-                r.lo
-            }
-        };
-        let mut grains = Vec::new();
-        for (group, g) in (0u32..).zip(&scene.groups) {
-            for _ in 0..g.count {
-                let sx = draw(&mut rng, g.semi_axes[0]);
-                let sy = if g.circles {
-                    sx
-                } else {
-                    draw(&mut rng, g.semi_axes[1])
-                };
-                let ex = draw(&mut rng, g.exponents[0]);
-                let ey = if g.same_exponents {
-                    ex
-                } else {
-                    draw(&mut rng, g.exponents[1])
-                };
-                let angle = draw(&mut rng, g.angle);
-                let shape =
-                    Superellipse::new([sx, sy], [ex, ey]).expect("scene ranges are validated");
-                grains.push((shape, angle, group));
-            }
-        }
-        // Groups fall mixed, in an order fixed by the seed.
-        grains.shuffle(&mut rng);
-        let w = scene.walls;
-        let pending = grains
-            .into_iter()
-            .enumerate()
-            .map(|(k, (shape, angle, group))| {
-                // x uniform between the walls, the grain's box kept inside them.
-                let half = 0.5
-                    * shape
-                        .bounding_box(&Pose::from_parts(Vec2::ZERO, angle))
-                        .width();
-                let (lo, hi) = (w.left + half, w.right - half);
-                let x = if lo < hi {
-                    rng.random_range(lo..=hi)
-                } else {
-                    0.5 * (w.left + w.right)
-                };
-                Pending {
-                    shape,
-                    x,
-                    angle,
-                    due: k as u64 / u64::from(scene.spawn_count.max(1))
-                        * u64::from(scene.spawn_interval),
-                    group,
-                }
-            })
-            .collect();
         World {
             bodies: Vec::new(),
             walls: scene.walls,
             settings: scene.settings,
             step: 0,
             top: scene.top,
-            pending,
+            pending: Queue::new(scene),
             materials: scene.groups.iter().map(|g| g.material).collect(),
             wall_material: scene.wall_material,
             planes: scene.planes.clone(),
@@ -158,7 +86,7 @@ impl World {
         settings: Settings,
         step: u64,
         top: f64,
-        pending: VecDeque<Pending>,
+        pending: Queue,
     ) -> World {
         World {
             step_start: bodies.iter().map(|b| b.center).collect(),
@@ -205,10 +133,7 @@ impl World {
             let undo = &mut self.undo;
             std::mem::swap(&mut self.bodies, &mut undo.bodies);
             std::mem::swap(&mut self.step_start, &mut undo.step_start);
-            // Back into the queue in reverse order, each where it was taken from.
-            for &(k, p) in undo.spawned.iter().rev() {
-                self.pending.insert(k, p);
-            }
+            self.pending.undo(&undo.spawned);
         }
         done
     }
@@ -249,32 +174,23 @@ impl World {
     fn spawn(&mut self) {
         // The grains' boxes, made once and only when a grain is due.
         let mut boxes: Option<Vec<Aabb>> = None;
-        self.undo.spawned.clear();
-        let mut k = 0;
-        while k < self.pending.len() {
-            let p = self.pending[k];
-            if p.due > self.step {
-                return;
-            }
+        let (bodies, settings, top) = (&mut self.bodies, &self.settings, self.top);
+        let place = |p: &Pending| {
             let body = Body {
                 group: p.group,
-                ..Body::at_rest(
-                    p.shape,
-                    &Pose::from_parts(Vec2::new(p.x, self.top), p.angle),
-                )
+                ..Body::at_rest(p.shape, &Pose::from_parts(Vec2::new(p.x, top), p.angle))
             };
             let bb = body.bounding_box();
             let boxes =
-                boxes.get_or_insert_with(|| self.bodies.iter().map(Body::bounding_box).collect());
-            if overlaps_any(&self.settings, &self.bodies, boxes, &body, &bb) {
-                k += 1;
-            } else {
-                boxes.push(bb);
-                self.bodies.push(body);
-                self.pending.remove(k);
-                self.undo.spawned.push((k, p));
+                boxes.get_or_insert_with(|| bodies.iter().map(Body::bounding_box).collect());
+            if overlaps_any(settings, bodies, boxes, &body, &bb) {
+                return false;
             }
-        }
+            boxes.push(bb);
+            bodies.push(body);
+            true
+        };
+        self.pending.spawn(self.step, place, &mut self.undo.spawned);
     }
 
     /// Whether `body` would overlap a grain of the world (the rule that keeps spawned grains
@@ -346,6 +262,11 @@ impl World {
             }
         }
         Some(sigma)
+    }
+
+    /// How many grains are still to appear.
+    pub fn pending_count(&self) -> u64 {
+        self.pending.len()
     }
 
     /// The velocity of grain `i` over the last step: its displacement from where the step began.
@@ -470,10 +391,10 @@ mod tests {
     }
 
     /// What a dump would hold of a world.
-    fn state(w: &World) -> (Vec<Body>, Vec<Pending>, u64, Vec<Vec2>) {
+    fn state(w: &World) -> (Vec<Body>, Queue, u64, Vec<Vec2>) {
         (
             w.bodies.clone(),
-            w.pending.iter().copied().collect(),
+            w.pending.clone(),
             w.step,
             (0..w.bodies.len()).map(|i| w.velocity(i)).collect(),
         )

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::checks;
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::geometry::Vec2;
-use crate::shape::{HalfPlane, Superellipse};
+use crate::shape::{HalfPlane, ShapeError, Superellipse};
 use crate::solver::soft::{Material, SoftSettings};
 use crate::solver::{Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
@@ -54,12 +54,20 @@ impl Group {
     /// shape's limits are monotone in each number, so the corners bound every draw. An error
     /// names the field (`radius`, `semi_axes`, `exponent`, `exponents`).
     pub fn extreme_shapes(&self) -> Result<(Superellipse, Superellipse), String> {
+        self.extremes(|err| checks::shape_field(err, self.circles, self.same_exponents))
+    }
+
+    /// [`Group::extreme_shapes`], its errors naming the field `field` gives for the shape error.
+    pub(crate) fn extremes(
+        &self,
+        field: impl Fn(&ShapeError) -> &'static str,
+    ) -> Result<(Superellipse, Superellipse), String> {
         let [sx, sy] = self.semi_axes;
         let [ex, ey] = self.exponents;
         let ends = |r: Range| [r.lo, r.hi];
         let make = |s: [f64; 2], e: [f64; 2]| {
             Superellipse::new(s, e).map_err(|err| {
-                let field = checks::shape_field(&err, self.circles, self.same_exponents);
+                let field = field(&err);
                 format!(
                     "{field}: the range's extreme semi-axes {s:?} with exponents {e:?} make no \
                      valid shape: {err}"
@@ -410,10 +418,11 @@ impl Scene {
     }
 
     /// Checks what the parts cannot check alone, before any work (see [`checks`]): the analytic
-    /// narrow phase needs circles only; the extremes of every drawn range make a valid shape
-    /// that fits between the walls and appears above the floor; the box holds all the grains;
-    /// a falling grain moves less than [`checks::STEP_FRACTION`] of the smallest semi-axis per
-    /// step; sleeping needs at least one calm step.
+    /// narrow phase needs circles only; every range can be drawn from; the extremes of every
+    /// drawn range make a valid shape that fits between the walls and appears above the floor;
+    /// the box holds all the grains; a falling grain moves less than
+    /// [`checks::STEP_FRACTION`] of the smallest semi-axis per step; sleeping needs at least one
+    /// calm step.
     pub fn validate(&self) -> Result<(), SceneError> {
         if self.settings.narrow_phase == NarrowPhase::Analytic
             && let Some(g) = self
@@ -432,6 +441,21 @@ impl Scene {
                 group: g.name.clone(),
                 message,
             };
+            let radius = if g.circles { "radius" } else { "semi_axes" };
+            let exponent = if g.same_exponents {
+                "exponent"
+            } else {
+                "exponents"
+            };
+            for (r, field) in [
+                (g.semi_axes[0], radius),
+                (g.semi_axes[1], radius),
+                (g.exponents[0], exponent),
+                (g.exponents[1], exponent),
+                (g.angle, "angle"),
+            ] {
+                checks::check_range(r, field).map_err(group_error)?;
+            }
             let (least, largest) = g.extreme_shapes().map_err(group_error)?;
             if g.count == 0 {
                 continue;
