@@ -8,7 +8,7 @@ use common::*;
 /// A small soft-model pour: disks and blocks, 30 grains.
 const SCENE: &str = r#"
 seed = 2
-steps = 400
+steps = 900
 [box]
 left = -2.0
 right = 2.0
@@ -54,10 +54,10 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.iter().all(|r| r.len() == 11), "11 columns a row");
-    let last: Vec<_> = rows.iter().filter(|r| r[0] == "400").collect();
+    let last: Vec<_> = rows.iter().filter(|r| r[0] == "900").collect();
     assert!(last.len() > 30, "{} contacts at the last step", last.len());
     // The floor holds the heap: its contacts' vertical forces add up to the heap's weight
-    // (every grain has landed and rests by step 400; density 1, g 9.8).
+    // (every grain has landed and rests by step 900; density 1, g 9.8).
     let floor_up: f64 = last
         .iter()
         .filter(|r| r[4] == "2")
