@@ -34,7 +34,7 @@ pub enum Shape {
 /// The rounding radius of a block's box, as a fraction of its smaller half extent: small, so
 /// that the box keeps the superellipse's flat sides and its size (Box2D's own samples round
 /// boxes by about a tenth). A superellipse of exponent 3 is rounder than that at its corners: its
-/// area is 0.88 of its box's, at exponent 6 0.95 (`docs/peers.md`).
+/// area is 0.88 of its box's, at exponent 6 0.96 (`docs/peers.md`).
 pub const BOX_ROUNDING: f64 = 0.1;
 
 /// Why a superellipse has no shape among the peers'.
