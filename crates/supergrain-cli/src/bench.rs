@@ -26,6 +26,13 @@ pub enum Bench {
     /// off, with the grid broad phase and (up to --all-pairs-max grains) all pairs; the first
     /// steps untimed, then the median step. Reports the process's peak memory at the end.
     Scaling(ScalingArgs),
+    /// Peers: the same scenes through supergrain, Box2D v3 and rapier2d, modelled on Box2D's
+    /// benchmark app: the settled 1,000-grain heap with every grain awake (ms per step), the
+    /// 1,000- and 10,000-grain pours until rest (wall time, steps); circles alone and the mix
+    /// (rice as capsules, blocks as rounded boxes for the peers); each against Box2D. Needs the
+    /// `peers` feature (cargo run --release -p supergrain-cli --features peers -- bench peers).
+    /// Runs one and two threads, or the global --threads alone.
+    Peers(crate::peers::Args),
 }
 
 #[derive(Parser)]
@@ -257,12 +264,14 @@ pub struct ContactArgs {
     csv: bool,
 }
 
-pub fn run(b: Bench) -> Result<ExitCode> {
+/// `threads`: the command's global `--threads`, if given.
+pub fn run(b: Bench, threads: Option<u16>) -> Result<ExitCode> {
     match b {
         Bench::Contact(args) => contact(args),
         Bench::Presets(args) => presets(args),
         Bench::Render(args) => render(args),
         Bench::Scaling(args) => scaling(args),
+        Bench::Peers(args) => crate::peers::run(args, threads),
     }
 }
 
@@ -351,7 +360,7 @@ fn contact(args: ContactArgs) -> Result<ExitCode> {
 
 /// The cases as CSV on standard output: the first case's fields (alphabetical) as the header,
 /// then one row per case; names with commas are quoted.
-fn print_csv(cases: &[serde_json::Value]) -> Result<ExitCode> {
+pub(crate) fn print_csv(cases: &[serde_json::Value]) -> Result<ExitCode> {
     let mut out = csv::Writer::from_writer(std::io::stdout().lock());
     let keys: Vec<String> = cases
         .first()

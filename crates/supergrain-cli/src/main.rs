@@ -5,6 +5,7 @@ mod bench;
 mod contact;
 mod figures;
 mod output;
+mod peers;
 mod picture;
 mod render;
 mod run;
@@ -67,7 +68,7 @@ fn main() -> ExitCode {
         Command::Figures(args) => figures::run(args),
         Command::Contact(args) => contact::run(args),
         Command::View(args) => view::run(args),
-        Command::Bench(b) => bench::run(b),
+        Command::Bench(b) => bench::run(b, cli.threads),
     };
     match result {
         Ok(code) => code,

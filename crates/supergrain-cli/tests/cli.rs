@@ -1044,3 +1044,41 @@ fn bench_csv_has_a_header_and_one_row_per_case() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("cannot be used with"), "{}", stderr(&o));
 }
+
+/// Without the `peers` feature (the default build, CI's) `bench peers` still parses its options
+/// and then says how to build it, instead of running or panicking; `--threads`, the command's
+/// global option, is accepted after it.
+#[cfg(not(feature = "peers"))]
+#[test]
+fn bench_peers_without_the_feature_says_how_to_build_it() {
+    for args in [
+        &["bench", "peers"][..],
+        &[
+            "bench",
+            "peers",
+            "--scene",
+            "pour-1000",
+            "--shapes",
+            "mix",
+            "--threads",
+            "1",
+            "--json",
+        ],
+    ] {
+        let o = run(args, None);
+        assert_no_panic(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}");
+        let err = stderr(&o);
+        assert!(
+            err.contains("--features peers -- bench peers"),
+            "{args:?}: {err}"
+        );
+        assert!(stdout(&o).is_empty(), "{args:?}");
+    }
+    let o = run(&["bench", "peers", "--scene", "everything"], None);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "an unknown scene is a usage error"
+    );
+}

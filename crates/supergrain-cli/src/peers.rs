@@ -1,0 +1,244 @@
+//! `supergrain bench peers`: the same scenes through supergrain, Box2D v3 and rapier2d (the
+//! `supergrain-peers` crate), printed as a table, JSON or CSV. Built only with the `peers`
+//! feature: the peers are bench-only dependencies, and Box2D builds from C source.
+
+use std::process::ExitCode;
+
+use anyhow::Result;
+use clap::{Parser, ValueEnum};
+
+/// How to build the command with the peers.
+#[cfg(not(feature = "peers"))]
+pub const BUILD_WITH_PEERS: &str =
+    "cargo run --release -p supergrain-cli --features peers -- bench peers";
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SceneArg {
+    /// The settled 1,000-grain heap, every grain awake and sleeping off: ms per step.
+    Heap,
+    /// The 1,000-grain pour from the empty box until rest: wall time and steps.
+    #[value(name = "pour-1000")]
+    Pour1000,
+    /// The 10,000-grain pour until rest (or --max-steps).
+    #[value(name = "pour-10k")]
+    Pour10k,
+    /// All three.
+    All,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ShapesArg {
+    /// Circles alone: the same radii in every engine.
+    Circles,
+    /// Pebbles, rice and blocks (rice as capsules, blocks as rounded boxes for the peers).
+    Mix,
+    /// Circles, then the mix.
+    Both,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EngineArg {
+    Supergrain,
+    Box2d,
+    Rapier,
+}
+
+#[derive(Parser)]
+pub struct Args {
+    /// Which scene.
+    #[arg(long, value_enum, default_value = "heap")]
+    scene: SceneArg,
+    /// Circles alone or the mix of pebbles, rice and blocks.
+    #[arg(long, value_enum, default_value = "both")]
+    shapes: ShapesArg,
+    /// Engines, each run in turn.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "supergrain,box2d,rapier"
+    )]
+    engines: Vec<EngineArg>,
+    /// Heap: timed steps per repetition.
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
+    steps: u64,
+    /// Heap: untimed steps first (the peers' heaps settle to their own shapes).
+    #[arg(long, default_value_t = 30)]
+    warmup: u64,
+    /// Heap: repetitions, each from the heap; the median is reported.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..))]
+    reps: u64,
+    /// Pours: speed under which a grain counts as at rest (as `run --until-rest`).
+    #[arg(long, default_value_t = 0.05, value_name = "SPEED")]
+    rest_speed: f64,
+    /// Pours: at rest after this many steps in a row with every grain in and none faster.
+    #[arg(long, default_value_t = 100)]
+    rest_steps: u32,
+    /// Pours: the most steps run (a pour not at rest by then says so).
+    #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u64).range(1..))]
+    max_steps: u64,
+    /// Print {"cases": [...]} instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Print CSV instead of a table: a header, then one row per case.
+    #[arg(long, conflicts_with = "json")]
+    csv: bool,
+}
+
+/// Thread counts when `--threads` (the command's global option) is not given: each engine on one
+/// thread, then on two (supergrain: a rayon pool, the box cut into strips above one thread;
+/// Box2D: its own scheduler's workers; rapier: its `parallel` pool).
+#[cfg(feature = "peers")]
+pub const DEFAULT_THREADS: [usize; 2] = [1, 2];
+
+#[cfg(not(feature = "peers"))]
+pub fn run(_args: Args, _threads: Option<u16>) -> Result<ExitCode> {
+    anyhow::bail!(
+        "`bench peers` needs the peers (Box2D v3, built from source, and rapier2d), which this \
+         build left out: they are behind the `peers` feature, off by default. Build and run it \
+         with\n  {BUILD_WITH_PEERS}"
+    )
+}
+
+/// `threads`: the global `--threads`, one count; without it [`DEFAULT_THREADS`].
+#[cfg(feature = "peers")]
+pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
+    use supergrain_peers::bench::{self, Engine, Measured, SceneKind, Shapes};
+    use supergrain_peers::scene::Rest;
+
+    if !(args.rest_speed.is_finite() && args.rest_speed > 0.0) {
+        anyhow::bail!(
+            "--rest-speed: expected a positive number, got {}",
+            args.rest_speed
+        );
+    }
+    let options = bench::Options {
+        scenes: match args.scene {
+            SceneArg::Heap => vec![SceneKind::Heap],
+            SceneArg::Pour1000 => vec![SceneKind::Pour1000],
+            SceneArg::Pour10k => vec![SceneKind::Pour10k],
+            SceneArg::All => SceneKind::ALL.to_vec(),
+        },
+        shapes: match args.shapes {
+            ShapesArg::Circles => vec![Shapes::Circles],
+            ShapesArg::Mix => vec![Shapes::Mix],
+            ShapesArg::Both => vec![Shapes::Circles, Shapes::Mix],
+        },
+        engines: args
+            .engines
+            .iter()
+            .map(|e| match e {
+                EngineArg::Supergrain => Engine::Supergrain,
+                EngineArg::Box2d => Engine::Box2d,
+                EngineArg::Rapier => Engine::Rapier,
+            })
+            .collect(),
+        threads: threads.map_or(DEFAULT_THREADS.to_vec(), |n| vec![usize::from(n)]),
+        warmup: args.warmup,
+        steps: args.steps,
+        reps: args.reps as usize,
+        rest: Rest {
+            speed: args.rest_speed,
+            steps: args.rest_steps,
+            max_steps: args.max_steps,
+        },
+    };
+    let cases = bench::cases(&options, &mut |case| eprintln!("running {case}"))
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    if args.json || args.csv {
+        let rows: Vec<_> = cases
+            .iter()
+            .map(|c| {
+                let (ms, runs, seconds, steps, at_rest) = match &c.result {
+                    Measured::Heap(h) => (Some(h.ms_per_step), Some(&h.runs), None, None, None),
+                    Measured::Pour(p) => {
+                        (None, None, Some(p.seconds), Some(p.steps), Some(p.at_rest))
+                    }
+                };
+                serde_json::json!({
+                    "scene": c.scene.name(), "shapes": c.shapes.name(), "engine": c.engine.name(),
+                    "threads": c.threads, "grains": c.grains, "ms_per_step": ms,
+                    "runs_ms_per_step": runs, "seconds": seconds, "steps": steps,
+                    "at_rest": at_rest, "x_box2d": c.x_box2d,
+                })
+            })
+            .collect();
+        if args.csv {
+            // One value per cell: the repetitions are in the JSON.
+            let rows: Vec<_> = rows
+                .into_iter()
+                .map(|mut r| {
+                    if let Some(o) = r.as_object_mut() {
+                        o.remove("runs_ms_per_step");
+                    }
+                    r
+                })
+                .collect();
+            return crate::bench::print_csv(&rows);
+        }
+        let o = &options;
+        println!(
+            "{}",
+            serde_json::json!({
+                "cases": rows,
+                "heap": { "warmup": o.warmup, "steps": o.steps, "reps": o.reps },
+                "rest": { "speed": o.rest.speed, "steps": o.rest.steps, "max_steps": o.rest.max_steps },
+            })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!(
+        "{:<10} {:<8} {:<11} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8}",
+        "scene",
+        "shapes",
+        "engine",
+        "threads",
+        "grains",
+        "ms/step",
+        "seconds",
+        "steps",
+        "at rest",
+        "x box2d"
+    );
+    let cell = |v: Option<String>| v.unwrap_or_else(|| "-".into());
+    for c in &cases {
+        let (ms, seconds, steps, rest) = match &c.result {
+            Measured::Heap(h) => (Some(format!("{:.3}", h.ms_per_step)), None, None, None),
+            Measured::Pour(p) => (
+                None,
+                Some(format!("{:.2}", p.seconds)),
+                Some(p.steps.to_string()),
+                Some(if p.at_rest { "yes" } else { "no" }.to_string()),
+            ),
+        };
+        println!(
+            "{:<10} {:<8} {:<11} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8}",
+            c.scene.name(),
+            c.shapes.name(),
+            c.engine.name(),
+            c.threads,
+            c.grains,
+            cell(ms),
+            cell(seconds),
+            cell(steps),
+            cell(rest),
+            cell(c.x_box2d.map(|x| format!("{x:.2}")))
+        );
+    }
+    let o = &options;
+    if o.scenes.contains(&SceneKind::Heap) {
+        println!(
+            "heap: {} untimed steps, then the median of {} repetitions of {} steps, every grain \
+             awake",
+            o.warmup, o.reps, o.steps
+        );
+    }
+    if o.scenes.iter().any(|&s| s != SceneKind::Heap) {
+        println!(
+            "pours: wall time until every grain is in and none faster than {} for {} steps (at \
+             most {} steps)",
+            o.rest.speed, o.rest.steps, o.rest.max_steps
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

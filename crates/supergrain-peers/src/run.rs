@@ -1,0 +1,97 @@
+//! The two measurements, written once for every peer: a settled heap stepped with every grain
+//! awake (ms per step), and a pour from the empty box until rest (wall time and steps).
+
+use std::time::Instant;
+
+use crate::peer::{Error, Peer};
+use crate::scene::{Rest, RestCounter, Scene, Spawner};
+
+/// A heap's steps, measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeapTiming {
+    pub grains: usize,
+    /// The median of `runs`.
+    pub ms_per_step: f64,
+    /// Each repetition's mean ms per timed step.
+    pub runs: Vec<f64>,
+}
+
+/// A pour, measured.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PourTiming {
+    pub grains: usize,
+    /// Wall time from the first step to rest (or to the step cap), spawning and the rest test
+    /// included.
+    pub seconds: f64,
+    pub steps: u64,
+    pub at_rest: bool,
+}
+
+/// The median (the mean of the two middle values for an even count).
+pub fn median(values: &[f64]) -> f64 {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+/// `scene`'s placed grains in a new `P` world with sleeping off, `warmup` steps untimed (the
+/// peers' shapes are not all supergrain's, so the heap first settles to them), then `steps`
+/// timed; `reps` times from the heap.
+pub fn heap<P: Peer>(
+    scene: &Scene,
+    threads: usize,
+    warmup: u64,
+    steps: u64,
+    reps: usize,
+) -> Result<HeapTiming, Error> {
+    let mut runs = Vec::with_capacity(reps.max(1));
+    for _ in 0..reps.max(1) {
+        let mut peer = P::new(scene, threads, false)?;
+        for _ in 0..warmup {
+            peer.step()?;
+        }
+        let start = Instant::now();
+        for _ in 0..steps {
+            peer.step()?;
+        }
+        runs.push(start.elapsed().as_secs_f64() * 1e3 / steps.max(1) as f64);
+    }
+    Ok(HeapTiming {
+        grains: scene.grains.len(),
+        ms_per_step: median(&runs),
+        runs,
+    })
+}
+
+/// `scene`'s spawn queue poured into its empty box with sleeping on (each engine's own), until
+/// rest.
+pub fn pour<P: Peer>(scene: &Scene, threads: usize, rest: &Rest) -> Result<PourTiming, Error> {
+    let mut peer = P::new(scene, threads, true)?;
+    let mut spawner = Spawner::new(&scene.spawns);
+    let mut placed = Vec::with_capacity(scene.grain_count());
+    let mut calm = RestCounter::default();
+    let start = Instant::now();
+    let mut steps = 0;
+    let mut at_rest = false;
+    while steps < rest.max_steps && !at_rest {
+        if !spawner.is_empty() {
+            peer.grains(&mut placed)?;
+            for g in spawner.due(steps, scene.top, &placed) {
+                peer.add(&g)?;
+            }
+        }
+        peer.step()?;
+        steps += 1;
+        at_rest = calm.update(rest, spawner.is_empty(), peer.fastest()?);
+    }
+    Ok(PourTiming {
+        grains: peer.len(),
+        seconds: start.elapsed().as_secs_f64(),
+        steps,
+        at_rest,
+    })
+}

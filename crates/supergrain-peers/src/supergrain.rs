@@ -1,0 +1,86 @@
+//! The supergrain side: whatever `supergrain::world::World` stepping gives (today the paper's
+//! projection model), on the same heap and the same pour as the peers. One thread runs the
+//! scene's own settings; more cut the box into strips of the default width
+//! ([`supergrain::solver::strips`]) projected in a rayon pool of that size.
+
+use std::time::Instant;
+
+use supergrain::solver::strips::WIDTH_IN_RADII;
+use supergrain::world::{Scene, World};
+
+use crate::run::{HeapTiming, PourTiming, median};
+use crate::scene::{Rest, RestCounter};
+
+pub const NAME: &str = "supergrain";
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.max(1))
+        .build()
+        .expect("a thread pool")
+}
+
+/// Cut into strips for more than one thread.
+fn threaded(world: &mut World, threads: usize) {
+    if threads > 1 {
+        let widest = world
+            .bodies
+            .iter()
+            .map(|b| b.shape.bounding_radius())
+            .chain(world.pending.iter().map(|p| p.shape.bounding_radius()))
+            .fold(0.0, f64::max);
+        world.settings.strip_width = WIDTH_IN_RADII * widest;
+    }
+}
+
+/// A settled heap (a dump's world), every grain awake and sleeping off, stepped `warmup` steps
+/// untimed and then `steps` timed, `reps` times from the heap: the median ms per step.
+pub fn heap(heap: &World, threads: usize, warmup: u64, steps: u64, reps: usize) -> HeapTiming {
+    let pool = pool(threads);
+    let runs: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let mut world = supergrain::bench::tiled(heap, 1, heap.settings.broad_phase);
+            threaded(&mut world, threads);
+            pool.install(|| {
+                for _ in 0..warmup {
+                    world.step();
+                }
+                let start = Instant::now();
+                for _ in 0..steps {
+                    world.step();
+                }
+                start.elapsed().as_secs_f64() * 1e3 / steps.max(1) as f64
+            })
+        })
+        .collect();
+    HeapTiming {
+        grains: heap.bodies.len(),
+        ms_per_step: median(&runs),
+        runs,
+    }
+}
+
+/// A scene's pour from its empty box until rest ([`Rest`], measured as `run --until-rest`
+/// does), timed whole.
+pub fn pour(scene: &Scene, threads: usize, rest: &Rest) -> PourTiming {
+    let mut world = World::new(scene);
+    threaded(&mut world, threads);
+    let grains = world.pending.len();
+    let mut calm = RestCounter::default();
+    pool(threads).install(|| {
+        let start = Instant::now();
+        let mut steps = 0;
+        let mut at_rest = false;
+        while steps < rest.max_steps && !at_rest {
+            world.step();
+            steps += 1;
+            at_rest = calm.update(rest, world.all_spawned(), world.max_speed());
+        }
+        PourTiming {
+            grains,
+            seconds: start.elapsed().as_secs_f64(),
+            steps,
+            at_rest,
+        }
+    })
+}
