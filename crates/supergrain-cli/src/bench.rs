@@ -47,9 +47,10 @@ pub struct ScalingArgs {
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
     /// Thread counts for the strip-parallel runs (each scene also runs in the paper's order on
-    /// one thread); default: 1 and every core.
-    #[arg(long, value_delimiter = ',')]
-    threads: Vec<usize>,
+    /// one thread); default: 1 and every core. (Not `--threads`: that is the command's global
+    /// option, and a second one on the subcommand made clap panic.)
+    #[arg(long, value_name = "N,N", value_delimiter = ',')]
+    thread_counts: Vec<usize>,
     /// The largest scene also run with all pairs (their cost grows with the square).
     #[arg(long, default_value_t = 10_000)]
     all_pairs_max: usize,
@@ -78,14 +79,14 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
     let heap = dump
         .to_world()
         .map_err(|e| anyhow::anyhow!("the built-in settled heap: {e}"))?;
-    let threads = if args.threads.is_empty() {
+    let threads = if args.thread_counts.is_empty() {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         if cores > 1 { vec![1, cores] } else { vec![1] }
     } else {
-        args.threads.clone()
+        args.thread_counts.clone()
     };
     if threads.contains(&0) {
-        anyhow::bail!("--threads: a thread count must be at least 1");
+        anyhow::bail!("--thread-counts: a thread count must be at least 1");
     }
     let mut cases = Vec::new();
     for &n in &args.copies {

@@ -38,7 +38,10 @@ pub enum ShapesArg {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum EngineArg {
+    /// supergrain with the paper's model (the scenes' own).
     Supergrain,
+    /// supergrain with the rigid-body soft step (`model = "soft"`, Box2D's materials).
+    Soft,
     Box2d,
     Rapier,
 }
@@ -56,7 +59,7 @@ pub struct Args {
         long,
         value_enum,
         value_delimiter = ',',
-        default_value = "supergrain,box2d,rapier"
+        default_value = "supergrain,soft,box2d,rapier"
     )]
     engines: Vec<EngineArg>,
     /// Heap: timed steps per repetition.
@@ -129,6 +132,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             .iter()
             .map(|e| match e {
                 EngineArg::Supergrain => Engine::Supergrain,
+                EngineArg::Soft => Engine::Soft,
                 EngineArg::Box2d => Engine::Box2d,
                 EngineArg::Rapier => Engine::Rapier,
             })

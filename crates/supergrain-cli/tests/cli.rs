@@ -1082,3 +1082,30 @@ fn bench_peers_without_the_feature_says_how_to_build_it() {
         "an unknown scene is a usage error"
     );
 }
+
+#[test]
+fn bench_scaling_takes_the_global_threads_and_its_own_counts() {
+    // `supergrain --threads 1 bench scaling` panicked: its own `--threads` clashed with the global one.
+    let o = run(
+        &[
+            "--threads",
+            "1",
+            "bench",
+            "scaling",
+            "--thread-counts",
+            "1",
+            "--copies",
+            "1",
+            "--steps",
+            "1",
+            "--warmup",
+            "0",
+        ],
+        None,
+    );
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(o.status.success(), "{err}");
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("1000"), "{out}");
+}

@@ -66,17 +66,26 @@ impl Shapes {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Engine {
     Supergrain,
+    /// supergrain with the soft step (`model = "soft"`): Box2D's defaults for materials
+    /// (friction 0.6, density 1), 4 substeps, the same time step.
+    Soft,
     Box2d,
     Rapier,
 }
 
 impl Engine {
-    pub const ALL: [Engine; 3] = [Engine::Supergrain, Engine::Box2d, Engine::Rapier];
+    pub const ALL: [Engine; 4] = [
+        Engine::Supergrain,
+        Engine::Soft,
+        Engine::Box2d,
+        Engine::Rapier,
+    ];
 
     pub fn name(self) -> &'static str {
         use crate::peer::Peer;
         match self {
             Engine::Supergrain => crate::supergrain::NAME,
+            Engine::Soft => crate::supergrain::SOFT,
             Engine::Box2d => Box2d::NAME,
             Engine::Rapier => Rapier::NAME,
         }
@@ -224,6 +233,13 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                             Engine::Supergrain => {
                                 crate::supergrain::heap(world, threads, o.warmup, o.steps, o.reps)
                             }
+                            Engine::Soft => crate::supergrain::heap(
+                                &crate::supergrain::soft_world(world),
+                                threads,
+                                o.warmup,
+                                o.steps,
+                                o.reps,
+                            ),
                             Engine::Box2d => {
                                 run::heap::<Box2d>(scene, threads, o.warmup, o.steps, o.reps)?
                             }
@@ -233,6 +249,11 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                         }),
                         (_, Some((scene, neutral))) => Measured::Pour(match engine {
                             Engine::Supergrain => crate::supergrain::pour(scene, threads, &o.rest),
+                            Engine::Soft => crate::supergrain::pour(
+                                &crate::supergrain::soft_scene(scene),
+                                threads,
+                                &o.rest,
+                            ),
                             Engine::Box2d => run::pour::<Box2d>(neutral, threads, &o.rest)?,
                             Engine::Rapier => run::pour::<Rapier>(neutral, threads, &o.rest)?,
                         }),

@@ -5,13 +5,60 @@
 
 use std::time::Instant;
 
+use supergrain::geometry::Vec2;
+use supergrain::solver::soft::{Material, SoftSettings};
 use supergrain::solver::strips::WIDTH_IN_RADII;
+use supergrain::solver::{Body, Model, Settings};
 use supergrain::world::{Scene, World};
 
 use crate::run::{HeapTiming, PourTiming, median};
 use crate::scene::{Rest, RestCounter};
 
 pub const NAME: &str = "supergrain";
+pub const SOFT: &str = "supergrain-soft";
+
+/// The soft step's settings in place of the paper's: Box2D's defaults (4 substeps, friction 0.6,
+/// density 1, no damping), the same time step.
+fn soft_settings(s: &mut Settings) {
+    s.model = Model::Soft;
+    s.soft = SoftSettings::default();
+}
+
+/// A heap stepped by the soft model (the grains at rest, with the default material).
+pub fn soft_world(heap: &World) -> World {
+    let mut settings = heap.settings;
+    soft_settings(&mut settings);
+    let bodies = heap
+        .bodies
+        .iter()
+        .map(|b| Body {
+            velocity: Vec2::ZERO,
+            angular_velocity: 0.0,
+            ..*b
+        })
+        .collect();
+    let mut w = World::from_parts(
+        bodies,
+        heap.walls,
+        settings,
+        0,
+        heap.top,
+        Default::default(),
+    );
+    w.materials = vec![Material::default()];
+    w
+}
+
+/// A scene poured by the soft model, with the default material everywhere.
+pub fn soft_scene(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    soft_settings(&mut s.settings);
+    for g in &mut s.groups {
+        g.material = Material::default();
+    }
+    s.wall_material = Material::default();
+    s
+}
 
 fn pool(threads: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -65,7 +112,7 @@ pub fn heap(heap: &World, threads: usize, warmup: u64, steps: u64, reps: usize) 
 pub fn pour(scene: &Scene, threads: usize, rest: &Rest) -> PourTiming {
     let mut world = World::new(scene);
     threaded(&mut world, threads);
-    let grains = world.pending.len();
+    let grains = world.pending.len() as usize;
     let mut calm = RestCounter::default();
     pool(threads).install(|| {
         let start = Instant::now();
