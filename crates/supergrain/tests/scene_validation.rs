@@ -469,3 +469,20 @@ fn a_grain_that_leaves_the_box_or_the_numbers_is_named() {
     assert_eq!(w.first_not_finite(), Some(0));
     assert_eq!(w.first_outside(), Some(0));
 }
+
+#[test]
+fn a_dump_whose_grain_would_cross_the_box_in_one_step_is_refused() {
+    // Found by fuzzing: a previous centre at x = 1e13 overflowed the quadtree at the first step.
+    let mut d = a_dump();
+    d["particles"][2]["previous_center"][0] = serde_json::json!(1e13);
+    let e = to_world(&d).expect_err("accepted").to_string();
+    assert!(e.contains("particle 2") && e.contains("in one step"), "{e}");
+    let mut d = a_dump();
+    d["particles"][1]["velocity"] = serde_json::json!([0.0, -1e6]);
+    d["particles"][1]
+        .as_object_mut()
+        .unwrap()
+        .remove("previous_center");
+    let e = to_world(&d).expect_err("accepted").to_string();
+    assert!(e.contains("particle 1") && e.contains("in one step"), "{e}");
+}

@@ -578,6 +578,20 @@ impl Dump {
                     checks::DEPTH_FRACTION
                 )));
             }
+            // A grain that would cross the whole box in one step (a hand-edited previous
+            // position or velocity) is no state a run leaves: a previous centre at x = 1e13
+            // flung the grain out and overflowed the quadtree's stack at the first step.
+            let per_step = (body.center - body.previous_center)
+                .norm()
+                .max(body.velocity.norm() * settings.step)
+                .max(v.norm() * settings.step);
+            let width = w.right - w.left;
+            if per_step > width {
+                return Err(DumpError::Unworkable(format!(
+                    "particle {index}: its previous centre or velocity moves it {per_step:.3e} \
+                     in one step, more than the box's width ({width})"
+                )));
+            }
             bodies.push(body);
             velocities.push(v);
         }
