@@ -472,7 +472,8 @@ fn a_grain_that_leaves_the_box_or_the_numbers_is_named() {
 
 #[test]
 fn a_dump_whose_grain_would_cross_the_box_in_one_step_is_refused() {
-    // Found by fuzzing: a previous centre at x = 1e13 overflowed the quadtree at the first step.
+    // Found by fuzzing: a previous centre at x = 1e13 overflowed the quadtree at the first step
+    // (the limit is a thousand box widths a step).
     let mut d = a_dump();
     d["particles"][2]["previous_center"][0] = serde_json::json!(1e13);
     let e = to_world(&d).expect_err("accepted").to_string();
