@@ -563,9 +563,10 @@ fn find_contacts<B: BroadPhase>(
         }
     }
     let wall_precision = settings.wall_precision();
+    let wall_boxes: Vec<Aabb> = walls.iter().map(HalfPlane::bounding_box).collect();
     for (i, b) in bodies.iter().enumerate().filter(|&(i, _)| work.awake[i]) {
         for (k, wall) in walls.iter().enumerate() {
-            if !work.boxes[i].intersects(&wall.bounding_box()) {
+            if !work.boxes[i].intersects(&wall_boxes[k]) {
                 continue;
             }
             stats.tests += 1;
