@@ -353,3 +353,92 @@ fn deepest_sampled_point(a: &Shape, sa: &[[f64; 2]], b: &Shape, sb: &[[f64; 2]],
 }
 
 use std::f64::consts::TAU;
+
+/// The soft model's closed form for two disks (`disk_disk_certified`) against the certified
+/// Newton path of the general narrow phase, which shares no code with it: over random pairs from
+/// deep overlap to clear gaps, and pairs within 1e-12 of touching, the same decision wherever
+/// the general path is certain (a depth beyond its tolerance of half a final cell), and the same
+/// deepest points and pushes while neither disk holds the other's centre. A closed form with the reach or the normal wrong, or one that
+/// decided the sign of a depth of 1e-13 wrongly, fails here.
+#[test]
+fn disk_closed_form_agrees_with_the_certified_path() {
+    use supergrain::contact::disk_disk_certified;
+    use supergrain::shape::Superellipse;
+    let mut rng = Rng::new(18);
+    let precision = Precision::new(DEPTH, 0.0).unwrap();
+    let (mut overlaps, mut touching) = (0, 0);
+    for k in 0..4000 {
+        let (ra, rb) = (rng.range(0.1, 1.0), rng.range(0.1, 1.0));
+        let angle = rng.range(0.0, std::f64::consts::TAU);
+        let dir = Vec2::new(angle.cos(), angle.sin());
+        let reach = ra + rb;
+        let dist = if k % 4 == 0 {
+            reach * (1.0 + rng.range(-1e-12, 1e-12))
+        } else {
+            rng.range(0.05, 1.2) * reach
+        };
+        let ca = Vec2::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0));
+        let cb = ca + dir * dist;
+        let (sa, sb) = (
+            Superellipse::circle(ra).unwrap(),
+            Superellipse::circle(rb).unwrap(),
+        );
+        let (pa, pb) = (Pose::new(ca, 0.3).unwrap(), Pose::new(cb, -1.1).unwrap());
+        let general = contact(&sa, &pa, &sb, &pb, &precision);
+        let closed = disk_disk_certified(ca, ra, cb, rb);
+        let depth = reach - dist;
+        let cell = cell_diagonal_bound(
+            &Shape {
+                c: [ca.x, ca.y],
+                angle: 0.3,
+                s: [ra, ra],
+                e: [2.0, 2.0],
+            },
+            &Shape {
+                c: [cb.x, cb.y],
+                angle: -1.1,
+                s: [rb, rb],
+                e: [2.0, 2.0],
+            },
+            DEPTH,
+        );
+        if depth.abs() > cell {
+            assert_eq!(
+                general.overlap(),
+                closed.overlap(),
+                "pair {k}: radii {ra}, {rb}, distance {dist}"
+            );
+        }
+        if depth.abs() < 1e-9 {
+            touching += 1;
+            // Beyond the rounding of the pair's own numbers (a few 1e-16), the decision is the
+            // sign of the depth.
+            if depth.abs() > 1e-13 {
+                assert_eq!(closed.overlap(), depth > 0.0, "pair {k}: depth {depth:e}");
+            }
+        }
+        // The points and pushes where neither disk holds the other's centre (deeper, either
+        // push that separates is an answer, and the general path's is another one).
+        if let (Some(g), Some(c), true) =
+            (general.penetration, closed.penetration, dist > ra.max(rb))
+        {
+            overlaps += 1;
+            let tol = 1e-6 * reach;
+            for (what, x, y) in [
+                ("A1", g.a_deepest, c.a_deepest),
+                ("A2", g.b_deepest, c.b_deepest),
+                ("A's push", g.a_push, c.a_push),
+                ("B's push", g.b_push, c.b_push),
+            ] {
+                assert!(
+                    (x - y).norm() < tol.max(cell),
+                    "pair {k}: {what} {x:?} against {y:?} (radii {ra}, {rb}, distance {dist})"
+                );
+            }
+        }
+    }
+    assert!(
+        overlaps > 500 && touching > 500,
+        "{overlaps} overlaps, {touching} touching"
+    );
+}

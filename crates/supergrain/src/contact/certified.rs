@@ -350,7 +350,7 @@ fn value_gradient_hessian(
 }
 
 /// Where the ray from `own`'s centre through `p` meets `own`'s boundary (own in its frame).
-fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
+pub(crate) fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
     let [ex, ey] = own.exponents();
     let inv = own.inv_semi_axes();
     let (a, b) = (abs_pow(p.x * inv.x, ex), abs_pow(p.y * inv.y, ey));

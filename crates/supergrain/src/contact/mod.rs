@@ -14,7 +14,7 @@ mod superellipse_superellipse;
 mod superellipse_wall;
 
 pub use certified::WarmStart;
-pub use disk_disk::disk_disk;
+pub use disk_disk::{disk_disk, disk_disk_certified};
 pub use ray::{ray_to_boundary, ray_to_convex_boundary};
 pub use superellipse_superellipse::{
     contact, contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints,

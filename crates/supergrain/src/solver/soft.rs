@@ -36,7 +36,7 @@ use crate::broad_phase::BroadPhase;
 use crate::contact::manifold::{Manifold, grain_manifold, wall_manifold};
 use crate::contact::{
     Contact, Penetration, WarmStart, contact_quadtree, contact_wall, contact_wall_quadtree,
-    contact_warm, disk_disk,
+    contact_warm, disk_disk, disk_disk_certified,
 };
 use crate::geometry::{Aabb, Rotation, Vec2};
 use crate::shape::{HalfPlane, Pose};
@@ -458,6 +458,12 @@ fn pair_contact(
 ) -> Contact {
     let precision = pair_precision(settings, a, b);
     match settings.narrow_phase {
+        NarrowPhase::Interval if a.shape.is_circle() && b.shape.is_circle() => disk_disk_certified(
+            pa.center(),
+            a.shape.semi_axes().x,
+            pb.center(),
+            b.shape.semi_axes().x,
+        ),
         NarrowPhase::Interval => contact_warm(&a.shape, pa, &b.shape, pb, &precision, warm),
         NarrowPhase::Quadtree => contact_quadtree(&a.shape, pa, &b.shape, pb, &precision),
         NarrowPhase::Analytic => {
