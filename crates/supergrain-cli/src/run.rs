@@ -11,7 +11,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use supergrain::io::{
-    Dump, FORCES_HEADER, GifWriter, TRAJECTORY_HEADER, write_forces_frame, write_trajectory_frame,
+    Dump, FORCES_HEADER, GifWriter, trajectory_header, write_forces_frame, write_trajectory_frame,
     write_vtk_frame,
 };
 use supergrain::render::{Style, render_world, world_region, world_svg};
@@ -92,7 +92,8 @@ pub struct Args {
     fps: f64,
     #[command(flatten)]
     picture: PictureArgs,
-    /// Write a CSV row per grain every --every steps.
+    /// Write a CSV row per grain every --every steps (model = "soft": with its material, mass
+    /// and moment of inertia).
     #[arg(long, value_name = "FILE.csv")]
     trajectory: Option<PathBuf>,
     /// Write a CSV row per contact every --every steps: its grains (or grain and wall), point,
@@ -177,7 +178,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     // The streams are written as the run goes.
     let mut trajectory = trajectory_to.as_ref().map(Target::open).transpose()?;
     if let Some(t) = trajectory.as_mut() {
-        writeln!(t, "{TRAJECTORY_HEADER}")?;
+        writeln!(t, "{}", trajectory_header(&world))?;
     }
     let mut forces = forces_to.as_ref().map(Target::open).transpose()?;
     if let Some(f) = forces.as_mut() {

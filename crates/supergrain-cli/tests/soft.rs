@@ -1,5 +1,6 @@
 //! The soft model from the shell (issue 18): `run --forces`, the stress in the summary,
-//! `render --forces`, and the errors when the paper's model is asked for forces.
+//! `render --forces`, the errors when the paper's model is asked for forces, and each grain's
+//! material, mass and moment of inertia in the trajectory and the VTK frames.
 
 mod common;
 
@@ -153,4 +154,165 @@ fn render_draws_force_chains_from_a_dump() {
         red(&b),
         red(&a)
     );
+}
+
+/// Two groups of different materials, told apart by their shapes: disks (exponent 2) and
+/// blocks (exponents 4 and 3). `MODEL` is replaced by the model.
+const TWO_MATERIALS: &str = r#"
+seed = 3
+steps = 200
+[box]
+left = -2.0
+right = 2.0
+floor = 0.0
+top = 4.0
+friction = 0.1
+restitution = 0.7
+[spawn]
+interval = 5
+[solver]
+model = "MODEL"
+[[group]]
+count = 8
+radius = [0.15, 0.25]
+density = 2.5
+friction = 0.3
+restitution = 0.25
+rolling_resistance = 0.05
+[[group]]
+count = 8
+semi_axes = [[0.2, 0.3], [0.1, 0.2]]
+exponents = [4.0, 3.0]
+density = 0.7
+friction = 0.9
+restitution = 0.5
+"#;
+
+/// The materials of [`TWO_MATERIALS`]'s groups: density, friction, restitution, rolling
+/// resistance.
+const DISKS: [f64; 4] = [2.5, 0.3, 0.25, 0.05];
+const BLOCKS: [f64; 4] = [0.7, 0.9, 0.5, 0.0];
+
+/// The area and the polar second moment of area of `|x/a|^p + |y/b|^q <= 1`, by the midpoint
+/// rule over `x` (the half-height `Y(x) = b (1 - (x/a)^p)^(1/q)`; a column of it holds
+/// `2 Y` of area and `2 x^2 Y + 2 Y^3 / 3` of `x^2 + y^2`).
+fn area_and_polar_moment(a: f64, b: f64, p: f64, q: f64) -> (f64, f64) {
+    let n = 200_000;
+    let dx = a / n as f64;
+    let (mut area, mut j) = (0.0, 0.0);
+    for k in 0..n {
+        let x = (k as f64 + 0.5) * dx;
+        let y = b * (1.0 - (x / a).powf(p)).max(0.0).powf(1.0 / q);
+        area += 4.0 * y * dx;
+        j += 4.0 * (x * x * y + y * y * y / 3.0) * dx;
+    }
+    (area, j)
+}
+
+fn close(got: f64, want: f64, what: &str) {
+    assert!(
+        (got - want).abs() <= 1e-5 * want.abs(),
+        "{what}: {got}, expected {want}"
+    );
+}
+
+#[test]
+fn trajectory_and_vtk_carry_each_grains_material_mass_and_inertia() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("two.toml");
+    std::fs::write(&scene, TWO_MATERIALS.replace("MODEL", "soft")).unwrap();
+    let (csv, vtk_dir) = (dir.path().join("t.csv"), dir.path().join("vtk"));
+    ok(&sg(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--trajectory",
+        csv.to_str().unwrap(),
+        "--vtk",
+        vtk_dir.to_str().unwrap(),
+        "--every",
+        "100",
+        "-q",
+    ]));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    // The paper's columns first, in their order; the material's after them.
+    assert_eq!(
+        lines.next(),
+        Some(
+            "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey,group,\
+             density,friction,restitution,rolling_resistance,mass,inertia"
+        )
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    let mut seen = [0; 2];
+    for r in &rows {
+        assert_eq!(r.len(), 19, "{r:?}");
+        let (sx, sy, ex, ey) = (r[8], r[9], r[10], r[11]);
+        // Which group, from the shape alone.
+        let (group, want) = if ex == 2.0 && ey == 2.0 {
+            (0, DISKS)
+        } else {
+            assert_eq!([ex, ey], [4.0, 3.0], "{r:?}");
+            (1, BLOCKS)
+        };
+        seen[group] += 1;
+        assert_eq!(r[12], group as f64, "group column of {r:?}");
+        assert_eq!(r[13..17], want, "material of {r:?}");
+        let (area, j) = area_and_polar_moment(sx, sy, ex, ey);
+        close(r[17], want[0] * area, "mass");
+        close(r[18], want[0] * j, "moment of inertia");
+    }
+    assert!(seen[0] > 0 && seen[1] > 0, "rows of both groups: {seen:?}");
+
+    // Each VTK frame holds the same numbers as the trajectory's rows of its step.
+    for step in [0u64, 100, 200] {
+        let frame: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == step as f64).collect();
+        let name = format!("frame_{step:08}.vtk");
+        let vtk = parse_vtk(&std::fs::read_to_string(vtk_dir.join(&name)).unwrap());
+        let columns = [
+            "density",
+            "friction",
+            "restitution",
+            "rolling_resistance",
+            "mass",
+            "inertia",
+        ];
+        for (k, column) in columns.iter().enumerate() {
+            let got = &vtk.scalars[*column];
+            let want: Vec<f64> = frame.iter().map(|r| r[13 + k]).collect();
+            assert_eq!(got, &want, "{name}: {column}");
+        }
+    }
+}
+
+#[test]
+fn the_papers_model_writes_no_material_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("two.toml");
+    std::fs::write(&scene, TWO_MATERIALS.replace("MODEL", "paper")).unwrap();
+    let (csv, vtk_dir) = (dir.path().join("t.csv"), dir.path().join("vtk"));
+    ok(&sg(&[
+        "run",
+        scene.to_str().unwrap(),
+        "--steps",
+        "60",
+        "--trajectory",
+        csv.to_str().unwrap(),
+        "--vtk",
+        vtk_dir.to_str().unwrap(),
+        "--every",
+        "60",
+        "-q",
+    ]));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey,group")
+    );
+    assert!(text.lines().skip(1).all(|l| l.split(',').count() == 13));
+    let vtk = parse_vtk(&std::fs::read_to_string(vtk_dir.join("frame_00000060.vtk")).unwrap());
+    assert!(!vtk.points.is_empty());
+    assert!(!vtk.scalars.contains_key("density") && !vtk.scalars.contains_key("mass"));
 }

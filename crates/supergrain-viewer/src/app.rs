@@ -9,6 +9,8 @@ use eframe::egui::{
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::render::cell_style;
 use supergrain::shape::{Pose, Superellipse};
+use supergrain::solver::soft::Material;
+use supergrain::world::MaterialOf;
 
 use crate::driver::{Driver, Meter};
 use crate::explorer::{ClassedCell, Explorer};
@@ -131,15 +133,16 @@ type Edit<T> = Option<(T, u64)>;
 #[derive(Default)]
 struct Edits {
     tuning: Edit<crate::sim::Tuning>,
+    materials: Edit<crate::sim::Materials>,
     spawn: Edit<crate::sim::Spawn>,
     overlays: Edit<crate::sim::Overlays>,
     drop_shape: Edit<DropShape>,
 }
 
 /// The value to show: the edit while the simulation has not seen it, else the snapshot's.
-fn shown<T: Copy>(edit: &Edit<T>, done: u64, current: T) -> T {
+fn shown<T: Clone>(edit: &Edit<T>, done: u64, current: T) -> T {
     match edit {
-        Some((v, n)) if done < *n => *v,
+        Some((v, n)) if done < *n => v.clone(),
         _ => current,
     }
 }
@@ -372,6 +375,9 @@ impl App {
                 self.edits.tuning = Some((t, n));
             }
         }
+        if let Some(current) = &snap.materials {
+            self.materials_panel(ui, snap.commands, current);
+        }
         ui.heading("Spawn rule");
         if let Some(current) = snap.spawn {
             let mut s = shown(&self.edits.spawn, snap.commands, current);
@@ -453,6 +459,36 @@ impl App {
                 "downloads: the picture as PNG, the state as a dump (supergrain view --state)",
             );
         }
+    }
+
+    /// The soft model's materials: a group's or the walls' changes from the next step.
+    fn materials_panel(&mut self, ui: &mut egui::Ui, done: u64, current: &crate::sim::Materials) {
+        ui.heading("Materials");
+        let before = shown(&self.edits.materials, done, current.clone());
+        let mut m = before.clone();
+        for (k, (name, material)) in m.groups.iter_mut().enumerate() {
+            egui::CollapsingHeader::new(name.as_str())
+                .id_salt(("material", k))
+                .default_open(true)
+                .show(ui, |ui| material_sliders(ui, material, true));
+        }
+        egui::CollapsingHeader::new("walls")
+            .id_salt("walls material")
+            .default_open(true)
+            .show(ui, |ui| material_sliders(ui, &mut m.walls, false));
+        let mut last = None;
+        for (k, ((_, now), (_, was))) in m.groups.iter().zip(&before.groups).enumerate() {
+            if now != was {
+                last = Some(self.send(Command::Material(MaterialOf::Group(k as u32), *now)));
+            }
+        }
+        if m.walls != before.walls {
+            last = Some(self.send(Command::Material(MaterialOf::Walls, m.walls)));
+        }
+        if let Some(n) = last {
+            self.edits.materials = Some((m, n));
+        }
+        ui.small("applies from the next step; a new density gives the grains their new mass");
     }
 
     fn canvas(&mut self, ui: &mut egui::Ui, snap: &Arc<Snapshot>) {
@@ -746,6 +782,33 @@ fn shape_sliders(
         egui::Slider::new(angle, -3.2..=3.2)
             .clamping(egui::SliderClamping::Edits)
             .text("angle"),
+    );
+}
+
+/// A material's sliders; the walls do not move, so their density is never used.
+fn material_sliders(ui: &mut egui::Ui, m: &mut Material, density: bool) {
+    if density {
+        ui.add(
+            egui::Slider::new(&mut m.density, 0.1..=10.0)
+                .clamping(egui::SliderClamping::Edits)
+                .logarithmic(true)
+                .text("density"),
+        );
+    }
+    ui.add(
+        egui::Slider::new(&mut m.friction, 0.0..=2.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("friction"),
+    );
+    ui.add(
+        egui::Slider::new(&mut m.restitution, 0.0..=1.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("restitution"),
+    );
+    ui.add(
+        egui::Slider::new(&mut m.rolling_resistance, 0.0..=1.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("rolling resistance"),
     );
 }
 

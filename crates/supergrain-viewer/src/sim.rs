@@ -7,9 +7,10 @@ use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::render::{Colouring, Style, render_world};
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::solver::{Body, Settings};
+use supergrain::solver::soft::Material;
+use supergrain::solver::{Body, Model, Settings};
 use supergrain::subdivision::Precision;
-use supergrain::world::{PRESETS, Scene, Touch, World};
+use supergrain::world::{MaterialOf, PRESETS, Scene, Touch, World};
 
 use crate::explorer::{ClassedCell, classed_cells};
 
@@ -70,6 +71,14 @@ pub struct Spawn {
     pub top: f64,
 }
 
+/// The materials a user can change (the soft model's), applied from the next step: each
+/// group's, by [`Body::group`], named as in the scene, and the walls'.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Materials {
+    pub groups: Vec<(String, Material)>,
+    pub walls: Material,
+}
+
 /// The shape dropped by a click.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DropShape {
@@ -117,6 +126,8 @@ pub enum Command {
         text: String,
     },
     Tune(Tuning),
+    /// A group's material or the walls' (the soft model's), from the next step.
+    Material(MaterialOf, Material),
     Spawn(Spawn),
     Overlays(Overlays),
     DropShape(DropShape),
@@ -151,6 +162,8 @@ pub struct Snapshot {
     pub playing: bool,
     pub speed: u32,
     pub tuning: Option<Tuning>,
+    /// `None` for the paper's model, which has no materials.
+    pub materials: Option<Materials>,
     pub spawn: Option<Spawn>,
     pub overlays: Overlays,
     pub drop_shape: DropShape,
@@ -304,6 +317,7 @@ impl Sim {
                 self.replace(other);
             }
             Command::Tune(t) => self.tune(t)?,
+            Command::Material(of, m) => self.set_material(of, m)?,
             Command::Spawn(s) => {
                 if matches!(self.source, Source::State { .. }) {
                     return Err(
@@ -350,9 +364,11 @@ impl Sim {
         self.drop_shape = drop_shape;
     }
 
-    /// Step 0 of the current scene, with the current settings and spawn rule.
+    /// Step 0 of the current scene, with the current settings, materials and spawn rule.
     pub fn reset(&mut self) {
         self.scene.settings = self.world.settings;
+        let materials = std::mem::take(&mut self.world.materials);
+        let walls = self.world.wall_material;
         self.world = match &self.source {
             // The text was a valid dump when it was opened.
             Source::State { text, .. } => {
@@ -362,6 +378,8 @@ impl Sim {
             }
             _ => World::new(&self.scene),
         };
+        self.world.materials = materials;
+        self.world.wall_material = walls;
         self.held = None;
         self.message = None;
     }
@@ -393,6 +411,47 @@ impl Sim {
         s.max_iterations = t.iterations;
         s.precision = precision;
         Ok(())
+    }
+
+    /// A group's material or the walls', from the next step on (see
+    /// [`World::set_material`]: a new density gives the group's grains their new mass and
+    /// moment of inertia). The paper's model has no materials: refused.
+    pub fn set_material(&mut self, of: MaterialOf, m: Material) -> Result<(), String> {
+        if self.world.settings.model != Model::Soft {
+            return Err(
+                "materials are the soft model's ([solver] model = \"soft\"); the paper's model has none"
+                    .into(),
+            );
+        }
+        let whose = match of {
+            MaterialOf::Group(g) => format!("`{}`", self.group_name(g as usize)),
+            MaterialOf::Walls => "the walls".into(),
+        };
+        self.world
+            .set_material(of, m)
+            .map_err(|e| format!("material of {whose}: {e}"))
+    }
+
+    /// A group's name in the scene (as a scene file names a group without one, from 1).
+    fn group_name(&self, g: usize) -> String {
+        self.scene
+            .groups
+            .get(g)
+            .map_or_else(|| format!("group {}", g + 1), |group| group.name.clone())
+    }
+
+    /// The materials the panel shows: `None` for the paper's model.
+    pub fn materials(&self) -> Option<Materials> {
+        let world = &self.world;
+        (world.settings.model == Model::Soft).then(|| Materials {
+            groups: (0..world.group_count())
+                .map(|g| {
+                    let m = supergrain::solver::soft::material_of(&world.materials, g as u32);
+                    (self.group_name(g), m)
+                })
+                .collect(),
+            walls: world.wall_material,
+        })
     }
 
     /// Steps of the world when playing: `speed` of them. While a grain is held it is kept at
@@ -504,6 +563,7 @@ impl Sim {
             playing: self.playing,
             speed: self.speed,
             tuning: Some(Tuning::of(settings)),
+            materials: self.materials(),
             spawn: Some(Spawn {
                 interval: self.scene.spawn_interval,
                 top: self.scene.top,

@@ -5,7 +5,8 @@ use supergrain::contact::contact;
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::world::{Scene, World};
+use supergrain::solver::soft::Material;
+use supergrain::world::{MaterialOf, Scene, World};
 use supergrain_viewer::driver::Meter;
 use supergrain_viewer::explorer::{Explorer, Params};
 use supergrain_viewer::sim::{DropShape, Overlays, Tuning};
@@ -495,5 +496,231 @@ fn a_dragged_grain_stays_inside_the_box() {
     assert!(
         (bb.max.x - 2.0).abs() < 1e-9 && bb.min.y.abs() < 1e-9,
         "{bb:?}"
+    );
+}
+
+// ---- Materials (the soft model's sliders) ----
+
+/// The soft model in an empty box, a step of 1/240 s, no sleeping; one group, `balls`, with
+/// no grains of its own (the tests drop theirs, which are of group 0) and Box2D's default
+/// material: friction 0.6, no restitution.
+const SOFT: &str = r#"
+seed = 1
+steps = 100
+[box]
+left = -2.0
+right = 2.0
+floor = 0.0
+top = 6.0
+[solver]
+model = "soft"
+step = 0.004166666666666667
+sleep_radius = 0.0
+[[group]]
+name = "balls"
+count = 0
+radius = 0.25
+"#;
+
+const G: f64 = 9.8;
+
+fn soft_with(shape: DropShape, at: Vec2) -> Sim {
+    let mut sim = Sim::open("soft.toml", SOFT).expect("the soft scene is valid");
+    sim.apply(Command::Pause);
+    sim.apply(Command::DropShape(shape));
+    sim.apply(Command::Drop(at));
+    assert_eq!(sim.world.bodies.len(), 1, "{:?}", sim.message());
+    sim
+}
+
+const BALL: DropShape = DropShape {
+    semi_axes: [0.25, 0.25],
+    exponents: [2.0, 2.0],
+    angle: 0.0,
+};
+
+/// A ball of radius 0.25 let go 2 above the floor, its material changed after `change_at`
+/// steps (in flight): the height of the top of its first rebound (0 without one).
+fn rebound(change_at: usize, change: Option<(MaterialOf, Material)>) -> f64 {
+    let (r, h0) = (0.25, 2.0);
+    let mut sim = soft_with(BALL, Vec2::new(0.0, r + h0));
+    let (mut bounced, mut top) = (false, 0.0f64);
+    for k in 0..1000 {
+        if k == change_at
+            && let Some((of, m)) = change
+        {
+            sim.apply(Command::Material(of, m));
+            assert_eq!(sim.message(), None);
+        }
+        sim.step();
+        let b = &sim.world.bodies[0];
+        if b.velocity.y > 0.0 && b.center.y - r > 0.01 {
+            bounced = true;
+        }
+        if bounced {
+            top = top.max(b.center.y - r);
+            if b.velocity.y < 0.0 {
+                break;
+            }
+        }
+    }
+    top
+}
+
+#[test]
+fn a_restitution_slider_makes_a_falling_ball_bounce_to_e_squared_of_its_height() {
+    let bouncy = Material {
+        restitution: 0.9,
+        ..Material::default()
+    };
+    // Without a change, no rebound (restitution 0 for the ball and the floor).
+    let dead = rebound(0, None);
+    assert!(dead < 0.01, "rebounded to {dead} without restitution");
+    // Changed in mid-air (the impact is at step 153): the ball's group, or the walls (the
+    // larger restitution of the two counts). Each rebounds to e^2 h = 1.62.
+    for of in [MaterialOf::Group(0), MaterialOf::Walls] {
+        let top = rebound(60, Some((of, bouncy)));
+        let want = 0.81 * 2.0;
+        assert!(
+            (top - want).abs() <= 0.05 * want,
+            "{of:?}: rebounded to {top}, e^2 h = {want}"
+        );
+    }
+}
+
+#[test]
+fn a_material_command_changes_the_worlds_table_and_the_panel() {
+    let mut sim = soft_with(BALL, Vec2::new(0.0, 3.0));
+    let m = Material {
+        density: 2.0,
+        friction: 0.1,
+        restitution: 0.3,
+        rolling_resistance: 0.2,
+    };
+    let walls = Material {
+        friction: 1.5,
+        ..Material::default()
+    };
+    sim.apply(Command::Material(MaterialOf::Group(0), m));
+    sim.apply(Command::Material(MaterialOf::Walls, walls));
+    assert_eq!(sim.world.materials, vec![m]);
+    assert_eq!(sim.world.wall_material, walls);
+    let shown = sim
+        .snapshot()
+        .materials
+        .expect("the soft model has materials");
+    assert_eq!(shown.groups, vec![("balls".to_string(), m)]);
+    assert_eq!(shown.walls, walls);
+    // Out of range: refused, said, nothing changed.
+    for bad in [
+        Material { density: 0.0, ..m },
+        Material {
+            restitution: 1.5,
+            ..m
+        },
+        Material {
+            friction: f64::NAN,
+            ..m
+        },
+    ] {
+        sim.apply(Command::Material(MaterialOf::Group(0), bad));
+        assert!(sim.message().is_some_and(|e| e.contains("out of range")));
+        assert_eq!(sim.world.materials, vec![m]);
+    }
+    // Materials survive a reset, as the solver settings do.
+    sim.apply(Command::Reset);
+    assert_eq!(
+        (sim.world.materials.clone(), sim.world.wall_material),
+        (vec![m], walls)
+    );
+    // The paper's model has none: no panel, and the command is refused.
+    let mut paper = Sim::preset("circles").unwrap();
+    assert!(paper.snapshot().materials.is_none());
+    paper.apply(Command::Material(MaterialOf::Walls, walls));
+    assert!(paper.message().is_some_and(|e| e.contains("soft model")));
+    assert_eq!(paper.world.wall_material, Material::default());
+}
+
+/// The floor's upward push on the grains over the last step.
+fn floor_force(sim: &Sim) -> f64 {
+    sim.world
+        .soft
+        .forces
+        .iter()
+        .filter(|f| f.wall == Some(2))
+        .map(|f| f.normal.y * f.normal_force)
+        .sum()
+}
+
+#[test]
+fn a_new_density_gives_a_resting_ball_its_new_weight() {
+    let r: f64 = 0.25;
+    let mut sim = soft_with(BALL, Vec2::new(0.0, r + 0.001));
+    let area = std::f64::consts::PI * r * r;
+    for _ in 0..240 {
+        sim.step();
+    }
+    let weight = area * G;
+    let f = floor_force(&sim);
+    assert!((f - weight).abs() <= 0.01 * weight, "{f} against {weight}");
+    // Three times as dense: the floor carries three times the weight (the solver's mass is
+    // recomputed, not the one it kept).
+    sim.apply(Command::Material(
+        MaterialOf::Group(0),
+        Material {
+            density: 3.0,
+            ..Material::default()
+        },
+    ));
+    for _ in 0..120 {
+        sim.step();
+    }
+    let f = floor_force(&sim);
+    assert!(
+        (f - 3.0 * weight).abs() <= 0.01 * 3.0 * weight,
+        "{f} against {}",
+        3.0 * weight
+    );
+}
+
+#[test]
+fn a_friction_slider_sets_how_far_a_pushed_block_slides() {
+    let block = DropShape {
+        semi_axes: [0.3, 0.2],
+        exponents: [8.0, 8.0],
+        angle: 0.0,
+    };
+    // Pushed along the floor at 2 units/s: how far it goes in a second.
+    let slide = |friction: f64| {
+        let mut sim = soft_with(block, Vec2::new(-1.5, 0.201));
+        sim.apply(Command::Material(
+            MaterialOf::Group(0),
+            Material {
+                friction,
+                ..Material::default()
+            },
+        ));
+        for _ in 0..60 {
+            sim.step();
+        }
+        let x0 = sim.world.bodies[0].center.x;
+        sim.world.bodies[0].velocity = Vec2::new(2.0, 0.0);
+        for _ in 0..240 {
+            sim.step();
+        }
+        sim.world.bodies[0].center.x - x0
+    };
+    // Friction 0 (the mix with the floor's 0.6 is their geometric mean, 0): no braking.
+    let free = slide(0.0);
+    assert!(
+        (free - 2.0).abs() <= 0.02,
+        "slid {free} in 1 s without friction"
+    );
+    // Friction 1: mu = sqrt(0.6) with the floor, it stops after v^2 / (2 mu g).
+    let braked = slide(1.0);
+    let want = 4.0 / (2.0 * 0.6f64.sqrt() * G);
+    assert!(
+        (braked - want).abs() <= 0.05 * want,
+        "slid {braked}, v^2 / (2 mu g) = {want}"
     );
 }

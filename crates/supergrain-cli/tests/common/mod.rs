@@ -2,6 +2,7 @@
 //! contract's checks, and a tiny scene.
 #![allow(dead_code)]
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
@@ -101,4 +102,83 @@ pub fn write_scene(dir: &Path, name: &str, text: &str) -> PathBuf {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write scene");
     path
+}
+
+/// A legacy VTK point file, parsed.
+pub struct Vtk {
+    pub points: Vec<[f64; 3]>,
+    pub vectors: BTreeMap<String, Vec<[f64; 3]>>,
+    pub scalars: BTreeMap<String, Vec<f64>>,
+}
+
+pub fn parse_vtk(text: &str) -> Vtk {
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[0].starts_with("# vtk DataFile Version"),
+        "not a legacy VTK file: {:?}",
+        lines[0]
+    );
+    assert!(lines.contains(&"ASCII"), "not ASCII");
+    assert!(lines.contains(&"DATASET POLYDATA"), "not POLYDATA");
+    let floats = |line: &str| -> Vec<f64> {
+        line.split_whitespace()
+            .map(|t| t.parse().unwrap_or_else(|e| panic!("{t:?}: {e}")))
+            .collect()
+    };
+    let triple = |line: &str| -> [f64; 3] {
+        let v = floats(line);
+        assert_eq!(v.len(), 3, "not three numbers: {line:?}");
+        [v[0], v[1], v[2]]
+    };
+    let mut vtk = Vtk {
+        points: Vec::new(),
+        vectors: BTreeMap::new(),
+        scalars: BTreeMap::new(),
+    };
+    let mut n = None;
+    let mut i = 0;
+    while i < lines.len() {
+        let words: Vec<&str> = lines[i].split_whitespace().collect();
+        match words.as_slice() {
+            ["POINTS", count, "double"] => {
+                let count: usize = count.parse().expect("POINTS count");
+                vtk.points = lines[i + 1..i + 1 + count]
+                    .iter()
+                    .map(|l| triple(l))
+                    .collect();
+                n = Some(count);
+                i += 1 + count;
+            }
+            ["POINT_DATA", count] => {
+                assert_eq!(Some(count.parse().expect("POINT_DATA count")), n);
+                i += 1;
+            }
+            ["VECTORS", name, "double"] => {
+                let count = n.expect("VECTORS before POINTS");
+                let v = lines[i + 1..i + 1 + count]
+                    .iter()
+                    .map(|l| triple(l))
+                    .collect();
+                vtk.vectors.insert(name.to_string(), v);
+                i += 1 + count;
+            }
+            ["SCALARS", name, "double" | "int", "1"] => {
+                let count = n.expect("SCALARS before POINTS");
+                assert_eq!(lines[i + 1], "LOOKUP_TABLE default");
+                let v = lines[i + 2..i + 2 + count]
+                    .iter()
+                    .map(|l| {
+                        let v = floats(l);
+                        assert_eq!(v.len(), 1, "not one number: {l:?}");
+                        v[0]
+                    })
+                    .collect();
+                vtk.scalars.insert(name.to_string(), v);
+                i += 2 + count;
+            }
+            _ => i += 1,
+        }
+    }
+    assert!(n.is_some(), "no POINTS section");
+    vtk
 }

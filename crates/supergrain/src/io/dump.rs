@@ -90,27 +90,14 @@ impl From<&Material> for MaterialJson {
 
 impl MaterialJson {
     fn to_material(&self, what: &str) -> Result<Material, DumpError> {
-        let bad = |field: &str, v: f64| {
-            DumpError::Solver(format!("{what}: {field} is out of range, got {v}"))
-        };
         let m = Material {
             density: self.density,
             friction: self.friction,
             restitution: self.restitution,
             rolling_resistance: self.rolling_resistance,
         };
-        if !(m.density.is_finite() && m.density > 0.0) {
-            return Err(bad("density", m.density));
-        }
-        if !(m.friction.is_finite() && m.friction >= 0.0) {
-            return Err(bad("friction", m.friction));
-        }
-        if !(0.0..=1.0).contains(&m.restitution) {
-            return Err(bad("restitution", m.restitution));
-        }
-        if !(m.rolling_resistance.is_finite() && m.rolling_resistance >= 0.0) {
-            return Err(bad("rolling_resistance", m.rolling_resistance));
-        }
+        m.validate()
+            .map_err(|e| DumpError::Solver(format!("{what}: {e}")))?;
         Ok(m)
     }
 }

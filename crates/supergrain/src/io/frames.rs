@@ -2,19 +2,36 @@
 
 use std::io::{self, Write};
 
+use crate::solver::Model;
 use crate::world::World;
 
 /// The trajectory CSV header: one row per grain and frame.
 pub const TRAJECTORY_HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey,group";
 
-/// Appends one frame of the trajectory: a row per grain, `id` its order of appearance.
+/// The columns the soft model's trajectory adds after [`TRAJECTORY_HEADER`]'s: the grain's
+/// material, its mass and its moment of inertia about its centre. The paper's model has no
+/// materials (unit masses, projection): its trajectory stays as it was.
+pub const MATERIAL_COLUMNS: &str = "density,friction,restitution,rolling_resistance,mass,inertia";
+
+/// The header of `world`'s trajectory: [`TRAJECTORY_HEADER`], then for the soft model
+/// [`MATERIAL_COLUMNS`].
+pub fn trajectory_header(world: &World) -> String {
+    match world.settings.model {
+        Model::Paper => TRAJECTORY_HEADER.to_string(),
+        Model::Soft => format!("{TRAJECTORY_HEADER},{MATERIAL_COLUMNS}"),
+    }
+}
+
+/// Appends one frame of the trajectory: a row per grain, `id` its order of appearance (the
+/// columns of [`trajectory_header`]).
 pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let time = world.step as f64 * world.settings.step;
+    let soft = world.settings.model == Model::Soft;
     for (i, b) in world.bodies.iter().enumerate() {
         let v = world.velocity(i);
         let s = b.shape.semi_axes();
         let [ex, ey] = b.shape.exponents();
-        writeln!(
+        write!(
             out,
             "{},{},{},{},{},{},{},{},{},{},{},{},{}",
             world.step,
@@ -31,13 +48,24 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
             ey,
             b.group
         )?;
+        if soft {
+            let m = world.material(i);
+            let (mass, inertia) = m.mass_and_inertia(&b.shape);
+            write!(
+                out,
+                ",{},{},{},{},{mass},{inertia}",
+                m.density, m.friction, m.restitution, m.rolling_resistance
+            )?;
+        }
+        writeln!(out)?;
     }
     Ok(())
 }
 
 /// One frame as a legacy-format VTK point file: grain centres as points, with the semi-axes,
 /// the local x axis, exponents, superquadric roundness (2 / exponent), angle, velocity and
-/// scene group as point data, so that ParaView can glyph them (see the README).
+/// scene group as point data, so that ParaView can glyph them (see the README); for the soft
+/// model also the material, mass and moment of inertia ([`MATERIAL_COLUMNS`]'s names).
 pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let n = world.bodies.len();
     writeln!(out, "# vtk DataFile Version 3.0")?;
@@ -95,6 +123,29 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     writeln!(out, "LOOKUP_TABLE default")?;
     for b in &world.bodies {
         writeln!(out, "{}", b.group)?;
+    }
+    if world.settings.model == Model::Soft {
+        let grains: Vec<_> = (0..n)
+            .map(|i| {
+                let m = world.material(i);
+                let (mass, inertia) = m.mass_and_inertia(&world.bodies[i].shape);
+                [
+                    m.density,
+                    m.friction,
+                    m.restitution,
+                    m.rolling_resistance,
+                    mass,
+                    inertia,
+                ]
+            })
+            .collect();
+        for (k, name) in MATERIAL_COLUMNS.split(',').enumerate() {
+            writeln!(out, "SCALARS {name} double 1")?;
+            writeln!(out, "LOOKUP_TABLE default")?;
+            for g in &grains {
+                writeln!(out, "{}", g[k])?;
+            }
+        }
     }
     Ok(())
 }

@@ -12,7 +12,8 @@ pub use dump::{
     WallsJson,
 };
 pub use frames::{
-    FORCES_HEADER, TRAJECTORY_HEADER, write_forces_frame, write_trajectory_frame, write_vtk_frame,
+    FORCES_HEADER, MATERIAL_COLUMNS, TRAJECTORY_HEADER, trajectory_header, write_forces_frame,
+    write_trajectory_frame, write_vtk_frame,
 };
 pub use images::{GifWriter, to_rgba_image, write_png};
 pub use json::{ContactAnswer, ContactQuery, QueryError, ShapeJson};

@@ -39,7 +39,7 @@ use crate::contact::{
     contact_warm, disk_disk, disk_disk_certified,
 };
 use crate::geometry::{Aabb, Rotation, Vec2};
-use crate::shape::{HalfPlane, Pose};
+use crate::shape::{HalfPlane, Pose, Superellipse};
 
 /// What a grain (or a wall) is made of.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,6 +69,46 @@ impl Default for Material {
             rolling_resistance: 0.0,
         }
     }
+}
+
+impl Material {
+    /// The mass (`density` times the area) and the moment of inertia about the centre of a
+    /// grain of `shape` made of this material: what the soft step uses, and what the
+    /// trajectory reports.
+    pub fn mass_and_inertia(&self, shape: &Superellipse) -> (f64, f64) {
+        let mass = self.density * shape.area();
+        (mass, shape.moment_of_inertia(mass))
+    }
+
+    /// Whether every number is in its range (the scene file's: density finite and positive,
+    /// friction and rolling resistance finite and not negative, restitution in `[0, 1]`); the
+    /// error names the first that is not.
+    pub fn validate(&self) -> Result<(), String> {
+        let bad = |field: &str, v: f64| Err(format!("{field} is out of range, got {v}"));
+        if !(self.density.is_finite() && self.density > 0.0) {
+            return bad("density", self.density);
+        }
+        if !(self.friction.is_finite() && self.friction >= 0.0) {
+            return bad("friction", self.friction);
+        }
+        if !(0.0..=1.0).contains(&self.restitution) {
+            return bad("restitution", self.restitution);
+        }
+        if !(self.rolling_resistance.is_finite() && self.rolling_resistance >= 0.0) {
+            return bad("rolling_resistance", self.rolling_resistance);
+        }
+        Ok(())
+    }
+}
+
+/// The material of a grain of `group`: `materials[group]`, or past the table's end its last
+/// entry, or the default for an empty table.
+pub fn material_of(materials: &[Material], group: u32) -> Material {
+    materials
+        .get(group as usize)
+        .or(materials.last())
+        .copied()
+        .unwrap_or_default()
 }
 
 /// Two materials in contact: friction is the geometric mean, restitution and rolling
@@ -255,6 +295,12 @@ impl SoftWorkspace {
     pub fn reset(&mut self) {
         *self = SoftWorkspace::default();
     }
+
+    /// Forget the masses only (a density changed): the next step computes every grain's
+    /// again. The kept impulses stay, as a first guess the solver corrects within the step.
+    pub fn forget_masses(&mut self) {
+        self.inverse.clear();
+    }
 }
 
 /// One soft step of `bodies` (see the module docs). `materials[g]` is the material of group
@@ -275,13 +321,7 @@ pub fn step_or_stop<B: BroadPhase>(
     let h = settings.step;
     let n = soft.substeps.max(1);
     let hs = h / f64::from(n);
-    let material = |b: &Body| {
-        materials
-            .get(b.group as usize)
-            .or(materials.last())
-            .copied()
-            .unwrap_or_default()
-    };
+    let material = |b: &Body| material_of(materials, b.group);
     masses(bodies, &material, work);
     let sleeps = settings.sleep_radius > 0.0;
     work.awake.clear();
@@ -377,8 +417,7 @@ fn masses(bodies: &[Body], material: &impl Fn(&Body) -> Material, work: &mut Sof
         work.inverse.clear();
     }
     for b in &bodies[work.inverse.len()..] {
-        let mass = material(b).density * b.shape.area();
-        let inertia = b.shape.moment_of_inertia(mass);
+        let (mass, inertia) = material(b).mass_and_inertia(&b.shape);
         let inv = |x: f64| {
             if x > 0.0 && x.is_finite() {
                 1.0 / x

@@ -264,6 +264,58 @@ impl World {
         Some(sigma)
     }
 
+    /// How many groups the world knows of: its material table's, and every group a grain or
+    /// a grain still to appear comes from.
+    pub fn group_count(&self) -> usize {
+        let of = |g: u32| g as usize + 1;
+        let generated = self.pending.generator().map_or(0, |g| g.groups().len());
+        let waiting = self.pending.waiting().iter().map(|p| of(p.group));
+        let grains = self.bodies.iter().map(|b| of(b.group));
+        waiting
+            .chain(grains)
+            .fold(self.materials.len().max(generated), usize::max)
+    }
+
+    /// The material of grain `i` (its group's, see [`soft::material_of`]).
+    pub fn material(&self, i: usize) -> Material {
+        soft::material_of(&self.materials, self.bodies[i].group)
+    }
+
+    /// Changes a group's material, or the walls', from the next step on (the soft step's;
+    /// the paper's model ignores materials). A new density gives the grains of the group
+    /// their new mass and moment of inertia; every grain wakes, since a sleeper is not solved
+    /// and would not feel the change. A group past the end of the table first fills the table
+    /// up to it with the materials its grains had (so that no other group's changes). The error
+    /// names the number out of range.
+    pub fn set_material(&mut self, of: MaterialOf, m: Material) -> Result<(), String> {
+        m.validate()?;
+        let density_changed = match of {
+            MaterialOf::Walls => {
+                // The walls do not move: their density is never used.
+                self.wall_material = m;
+                false
+            }
+            MaterialOf::Group(g) => {
+                let g = g as usize;
+                let len = self.group_count().max(g + 1);
+                while self.materials.len() < len {
+                    let next = soft::material_of(&self.materials, self.materials.len() as u32);
+                    self.materials.push(next);
+                }
+                let old = std::mem::replace(&mut self.materials[g], m);
+                old.density != m.density
+            }
+        };
+        if density_changed {
+            self.soft.forget_masses();
+        }
+        for b in &mut self.bodies {
+            b.calm = 0;
+            b.anchor = b.center;
+        }
+        Ok(())
+    }
+
     /// How many grains are still to appear.
     pub fn pending_count(&self) -> u64 {
         self.pending.len()
@@ -365,6 +417,15 @@ fn overlaps_any(
         .any(|(o, ob)| ob.intersects(bb) && grain_contact(settings, body, o).overlap())
 }
 
+/// Whose material [`World::set_material`] changes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaterialOf {
+    /// A scene group's, by [`Body::group`].
+    Group(u32),
+    /// The walls' (the box's and the planes').
+    Walls,
+}
+
 /// A contact found by [`World::contacts`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Touch {
@@ -435,6 +496,47 @@ mod tests {
             reference.step();
             assert_eq!(state(&world), state(&reference), "after the stop {stopped}");
         }
+    }
+
+    /// A group past the end of the material table: the groups between keep the material
+    /// they had (the table's last), and so does every group after it.
+    #[test]
+    fn setting_a_group_past_the_tables_end_changes_no_other_group() {
+        let shape = crate::shape::Superellipse::circle(0.2).expect("a circle");
+        let bodies = (0..4)
+            .map(|g| Body {
+                group: g,
+                ..Body::at_rest(shape, &Pose::from_parts(Vec2::new(g as f64, 1.0), 0.0))
+            })
+            .collect();
+        let walls = Walls {
+            left: -5.0,
+            right: 5.0,
+            floor: 0.0,
+        };
+        let settings = Settings::default();
+        let mut world = World::from_parts(bodies, walls, settings, 0, 5.0, Queue::default());
+        let a = Material {
+            friction: 0.2,
+            ..Material::default()
+        };
+        let m = Material {
+            density: 2.0,
+            ..Material::default()
+        };
+        world.materials = vec![a];
+        world.set_material(MaterialOf::Group(2), m).expect("valid");
+        assert_eq!(world.materials, vec![a, a, m, a]);
+        assert_eq!(
+            (0..4).map(|i| world.material(i)).collect::<Vec<_>>(),
+            vec![a, a, m, a]
+        );
+        let bad = Material {
+            restitution: 2.0,
+            ..m
+        };
+        assert!(world.set_material(MaterialOf::Walls, bad).is_err());
+        assert_eq!(world.wall_material, Material::default());
     }
 
     #[test]
