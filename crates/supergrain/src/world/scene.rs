@@ -281,8 +281,10 @@ impl Scene {
             },
             // Set below, from the groups unless given.
             strip_width: 0.0,
+            // A scene file that does not say gets the rigid-body solver (issue 18); the
+            // presets, and `Settings::default()` for programs, keep the paper's.
             model: match s.model {
-                None => defaults.model,
+                None => Model::Soft,
                 Some(ModelSpec::Paper) => Model::Paper,
                 Some(ModelSpec::Soft) => Model::Soft,
             },
