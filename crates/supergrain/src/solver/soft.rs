@@ -560,7 +560,7 @@ fn find_contacts<B: BroadPhase>(
         }
     }
     let predicted = &work.predicted;
-    let found: Vec<Option<(Contact, Option<WarmStart>)>> = work
+    let found: Vec<Option<(Option<Constraint>, Option<WarmStart>)>> = work
         .pairs
         .par_iter()
         .map(|&(i, j, warm)| {
@@ -568,15 +568,22 @@ fn find_contacts<B: BroadPhase>(
                 return None;
             }
             let mut warm = warm;
-            let c = pair_contact(
-                settings,
-                &bodies[i],
-                &predicted[i],
-                &bodies[j],
-                &predicted[j],
-                &mut warm,
-            );
-            Some((c, warm))
+            let (a, b) = (&bodies[i], &bodies[j]);
+            let c = pair_contact(settings, a, &predicted[i], b, &predicted[j], &mut warm);
+            // The manifold here too, on all cores: a blocky pair's patch search costs more than
+            // its narrow phase.
+            let m = c.penetration.map(|p| {
+                let m = grain_manifold(
+                    &a.shape,
+                    &predicted[i],
+                    &b.shape,
+                    &predicted[j],
+                    &p,
+                    PATCH_MARGIN * settings.soft.slop,
+                );
+                anchored(i, j, (i, j), &m, bodies, predicted)
+            });
+            Some((m, warm))
         })
         .collect();
     if stop.load(Ordering::Relaxed) {
@@ -589,51 +596,49 @@ fn find_contacts<B: BroadPhase>(
     work.next_warm.clear();
     work.constraints.clear();
     for (&(i, j, _), answer) in work.pairs.iter().zip(found) {
-        let (contact, warm) = answer.expect("not stopped");
+        let (constraint, warm) = answer.expect("not stopped");
         if let Some(w) = warm {
             work.next_warm.insert((i, j), w);
         }
-        if let Some(p) = contact.penetration {
-            let (a, b) = (&bodies[i], &bodies[j]);
-            let m = grain_manifold(
-                &a.shape,
-                &predicted[i],
-                &b.shape,
-                &predicted[j],
-                &p,
-                PATCH_MARGIN * settings.soft.slop,
-            );
-            work.constraints
-                .push(anchored(i, j, (i, j), &m, bodies, predicted));
-        }
+        work.constraints.extend(constraint);
     }
     let wall_precision = settings.wall_precision();
     let wall_boxes: Vec<Aabb> = walls.iter().map(HalfPlane::bounding_box).collect();
-    for (i, b) in bodies.iter().enumerate().filter(|&(i, _)| work.awake[i]) {
-        for (k, wall) in walls.iter().enumerate() {
-            if !work.boxes[i].intersects(&wall_boxes[k]) {
-                continue;
-            }
-            stats.tests += 1;
-            let pose = &work.predicted[i];
-            let c = match settings.narrow_phase {
-                NarrowPhase::Quadtree => {
-                    contact_wall_quadtree(&b.shape, pose, wall, &wall_precision)
+    let (awake, boxes) = (&work.awake, &work.boxes);
+    // Each awake grain against each wall whose box it meets, on all cores, collected in the
+    // order of the grains and walls.
+    let at_walls: Vec<(usize, Vec<Constraint>)> = (0..bodies.len())
+        .into_par_iter()
+        .filter(|&i| awake[i])
+        .map(|i| {
+            let b = &bodies[i];
+            let pose = &predicted[i];
+            let mut tests = 0;
+            let mut found = Vec::new();
+            for (k, wall) in walls.iter().enumerate() {
+                if !boxes[i].intersects(&wall_boxes[k]) {
+                    continue;
                 }
-                _ => contact_wall(&b.shape, pose, wall, &wall_precision),
-            };
-            if let Some(p) = c.penetration {
-                let m = wall_manifold(&b.shape, pose, wall, &p, PATCH_MARGIN * settings.soft.slop);
-                work.constraints.push(anchored(
-                    STATIC,
-                    i,
-                    (i, STATIC - k),
-                    &m,
-                    bodies,
-                    &work.predicted,
-                ));
+                tests += 1;
+                let c = match settings.narrow_phase {
+                    NarrowPhase::Quadtree => {
+                        contact_wall_quadtree(&b.shape, pose, wall, &wall_precision)
+                    }
+                    _ => contact_wall(&b.shape, pose, wall, &wall_precision),
+                };
+                if let Some(p) = c.penetration {
+                    let m =
+                        wall_manifold(&b.shape, pose, wall, &p, PATCH_MARGIN * settings.soft.slop);
+                    found.push(anchored(STATIC, i, (i, STATIC - k), &m, bodies, predicted));
+                }
             }
-        }
+            (tests, found)
+        })
+        .filter(|(tests, _)| *tests > 0)
+        .collect();
+    for (tests, found) in at_walls {
+        stats.tests += tests;
+        work.constraints.extend(found);
     }
     Ok(stats)
 }
