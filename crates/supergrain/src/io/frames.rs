@@ -64,7 +64,7 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
 
 /// One frame as a legacy-format VTK point file: grain centres as points, with the semi-axes,
 /// the local x axis, exponents, superquadric roundness (2 / exponent), angle, velocity and
-/// scene group as point data, so that ParaView can glyph them (see the README); for the soft
+/// scene group as point data, so that ParaView can glyph them (see docs/reference.md); for the soft
 /// model also the material, mass and moment of inertia ([`MATERIAL_COLUMNS`]'s names).
 pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let n = world.bodies.len();
