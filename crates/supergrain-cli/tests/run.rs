@@ -135,11 +135,14 @@ const HEADER: &str = "step,time,id,x,y,angle,vx,vy,sx,sy,ex,ey,group";
 /// Checks the header and parses the rows.
 fn trajectory(text: &str) -> Vec<Row> {
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some(HEADER), "trajectory header");
+    // The soft model (the scene files' default) adds the material columns after these.
+    let header = lines.next().expect("a header");
+    assert!(header.starts_with(HEADER), "trajectory header {header:?}");
+    let columns = header.split(',').count();
     lines
         .map(|line| {
             let fields: Vec<&str> = line.split(',').collect();
-            assert_eq!(fields.len(), 13, "row {line:?} has not 13 fields");
+            assert_eq!(fields.len(), columns, "row {line:?} has not {columns} fields");
             assert_eq!(fields[12], "0", "the preset's grains are all of group 0");
             let f = |k: usize| -> f64 {
                 fields[k]

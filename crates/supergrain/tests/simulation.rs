@@ -634,14 +634,14 @@ fn every_example_scene_file_parses_and_the_preset_files_are_the_presets() {
             "{name}"
         );
     }
-    // The default strip width: eight times the largest group's corner of its largest
-    // semi-axes, here the pebbles' (0.35, 0.35), not the rice's (0.45, 0.18) nor the blocks'
-    // (0.3, 0.35). The 1,000-grain pour keeps the paper's order (0) as measured.
+    // The pours run the soft model (the scene files' default), with the default strip width:
+    // eight times the largest group's corner of its largest semi-axes, here the pebbles' (0.35,
+    // 0.35), not the rice's (0.45, 0.18) nor the blocks' (0.3, 0.35), and the default narrow
+    // phase; each group with its own material.
     let auto = 8.0 * 0.35f64.hypot(0.35);
-    // It keeps the paper's quadtree too, as measured; the others take the default.
-    use supergrain::solver::NarrowPhase;
+    use supergrain::solver::{Model, NarrowPhase};
     for (name, grains, width, narrow) in [
-        ("pour-1000", 1000, 0.0, NarrowPhase::Quadtree),
+        ("pour-1000", 1000, auto, NarrowPhase::Interval),
         ("pour-10k", 10_000, auto, NarrowPhase::Interval),
         ("pour-100k", 100_000, auto, NarrowPhase::Interval),
     ] {
@@ -650,6 +650,10 @@ fn every_example_scene_file_parses_and_the_preset_files_are_the_presets() {
         assert_eq!(scene.grain_count(), grains, "{name}");
         assert!((scene.settings.strip_width - width).abs() < 1e-12, "{name}");
         assert_eq!(scene.settings.narrow_phase, narrow, "{name}");
+        assert_eq!(scene.settings.model, Model::Soft, "{name}");
+        let frictions: Vec<f64> = scene.groups.iter().map(|g| g.material.friction).collect();
+        assert_eq!(frictions, [0.5, 0.4, 0.6], "{name}");
+        assert_eq!(scene.wall_material.friction, 0.5, "{name}");
         // And a dump keeps it.
         let world = World::new(&scene);
         let back = Dump::of(&world).to_world().unwrap();
