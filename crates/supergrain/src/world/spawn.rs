@@ -44,8 +44,8 @@ pub enum SpawnRule {
     Fair,
 }
 
-/// The fair rule's places are drawn in a band this many of the grain's bounding radii deep
-/// under the top (two diameters): room for about twice as many places as the top row alone.
+/// The depth of the fair rule's band under the top, in the grain's bounding radii: two
+/// diameters, room for a few rows of places besides the top's.
 pub const BAND_IN_RADII: f64 = 4.0;
 
 /// The most places the fair rule offers the next grain in one step. A place costs one pass over
