@@ -101,9 +101,9 @@ fn fair(s: &Shares) -> bool {
 /// The bar: a 50:50 pour keeps its mixture in the order the grains appear and in the
 /// heap. Measured (the small share among the first 60% to appear; in the bottom third; in the
 /// top third of the heap), seeds 1, 2, 3:
-/// - fair rule: 0.496, 0.549, 0.519; 0.508, 0.466, 0.466; 0.521, 0.534, 0.489 (all 400
-///   grains in by step 545-564).
-/// - queue rule: 0.754, 0.767, 0.053; 0.758, 0.767, 0.053; 0.758, 0.752, 0.038 (the last 20%
+/// - fair rule: 0.496, 0.541, 0.504; 0.508, 0.466, 0.474; 0.521, 0.541, 0.474 (all 400
+///   grains in by step 545-564; 300 steps later the fastest moves at 0.009-0.017).
+/// - queue rule: 0.754, 0.759, 0.053; 0.758, 0.767, 0.053; 0.758, 0.752, 0.045 (the last 20%
 ///   to appear are 0-2.5% small; all in by step 1157-1388). It fails the bar (the next test).
 ///
 /// The fair rule's grains also appear in exactly the order the queue deals them.
@@ -247,10 +247,14 @@ fn scene(spawn: &str, solver: &str) -> Result<Scene, String> {
 #[test]
 fn the_rule_defaults_by_model_and_can_be_chosen() {
     let rule = |spawn: &str, solver: &str| scene(spawn, solver).unwrap().spawn_rule;
-    assert_eq!(rule("", ""), SpawnRule::Queue);
+    // A scene file's model is the soft one unless it says.
+    assert_eq!(rule("", ""), SpawnRule::Fair);
     assert_eq!(rule("", "model = \"paper\""), SpawnRule::Queue);
     assert_eq!(rule("", "model = \"soft\""), SpawnRule::Fair);
-    assert_eq!(rule("rule = \"fair\"", ""), SpawnRule::Fair);
+    assert_eq!(
+        rule("rule = \"fair\"", "model = \"paper\""),
+        SpawnRule::Fair
+    );
     assert_eq!(
         rule("rule = \"queue\"", "model = \"soft\""),
         SpawnRule::Queue
@@ -265,7 +269,7 @@ fn the_rule_defaults_by_model_and_can_be_chosen() {
         );
     }
     // The paper's model's dump carries no trace of the rule.
-    let mut w = World::new(&scene("interval = 20", "").unwrap());
+    let mut w = World::new(&scene("interval = 20", "model = \"paper\"").unwrap());
     w.step();
     let saved = text(&w);
     assert!(
