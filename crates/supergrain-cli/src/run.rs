@@ -43,6 +43,10 @@ Examples:
   supergrain run examples/scenes/pour-1000.toml --until-rest --steps 20000 --svg pour.svg
 
 The presets are the paper's four scenes (Figs. 10-13): circles, ellipses, squircles, mixed.
+A scene's [spawn] rule says what happens to a grain whose place is taken. \"fair\", the
+default with [solver] model = \"soft\": it is tried at other places in a band under the top,
+and grains appear in queue order, so a mixture arrives mixed. \"queue\", the default with the
+paper's model: it waits while later grains pass it, so large grains arrive last.
 A progress bar shows on a terminal, elsewhere (a log file) a progress line every 30 s;\na summary is printed at the end. Ctrl-C (or SIGTERM) stops within a second, even in the\nmiddle of a slow step, and still writes every output with the last whole step (exit code\n130); a second Ctrl-C quits at once.")]
 pub struct Args {
     /// A scene file (TOML; see examples/scenes/).

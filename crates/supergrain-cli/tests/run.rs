@@ -1362,6 +1362,9 @@ fn run_help_mentions_the_presets_and_resume() {
         "--resume",
         "--dump",
         "--narrow-phase",
+        "[spawn] rule",
+        "\"fair\"",
+        "\"queue\"",
     ] {
         assert!(help.contains(word), "{word} not in run --help:\n{help}");
     }

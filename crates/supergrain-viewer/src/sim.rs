@@ -235,6 +235,7 @@ impl Sim {
             top: world.top,
             spawn_interval: 1,
             spawn_count: 1,
+            spawn_rule: world.pending.rule(),
             settings: world.settings,
             groups: Vec::new(),
             wall_material: world.wall_material,

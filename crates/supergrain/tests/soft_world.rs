@@ -145,9 +145,11 @@ fn grains_poured_on_a_plane_stay_above_it_and_resume_bit_for_bit() {
             assert_eq!(text(&resumed), text(&straight));
         }
     }
-    // A contact keeps about a slop (0.005) of overlap; a grain through the plane would be a
-    // grain's size deep.
-    assert!(deepest < 0.03, "a grain sank {deepest} into the plane");
+    // A contact keeps about a slop (0.005) of overlap, and an impact presses a grain in for a
+    // few steps: 0.027 by the queue rule; by the fair rule (the default, another heap) 0.035,
+    // one step, a grain sliding on the plane struck by one falling at 5.6 units/s, pushed out
+    // within 15 steps. A grain through the plane would be a grain's size deep.
+    assert!(deepest < 0.04, "a grain sank {deepest} into the plane");
     assert_eq!(w.first_outside(), None);
 }
 

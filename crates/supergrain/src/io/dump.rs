@@ -14,7 +14,7 @@ use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings};
 use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
-use crate::world::{Generator, Group, Pending, Queue, Range, Touch, World, checks};
+use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Touch, World, checks};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -172,6 +172,22 @@ pub struct QueueJson {
     /// Absent: nothing more to draw.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generator: Option<GeneratorJson>,
+    /// The fair rule's state (`[spawn] rule = "fair"`); absent: the queue rule (and every dump
+    /// from before the rule).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fair: Option<FairJson>,
+}
+
+/// Where the fair rule stands (see [`Fair`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FairJson {
+    /// The scene's seed: the places offered are drawn from its streams.
+    pub seed: u64,
+    /// The queue index of the next grain to appear.
+    pub head: u64,
+    /// The places it has been offered so far.
+    pub tries: u64,
 }
 
 /// The grains still to draw (see [`Generator`]).
@@ -652,7 +668,16 @@ impl Dump {
             Some(g) => generator_of(g, &walls, top)?,
             None => None,
         };
-        let pending = Queue::from_parts(waiting, generator);
+        let fair = self
+            .queue
+            .as_ref()
+            .and_then(|q| q.fair.as_ref())
+            .map(|f| Fair {
+                seed: f.seed,
+                head: f.head,
+                tries: f.tries,
+            });
+        let pending = Queue::from_parts(waiting, generator, fair);
         let smallest = bodies
             .iter()
             .map(|b| b.shape.min_semi_axis())
@@ -855,6 +880,11 @@ fn queue_json(queue: &Queue) -> QueueJson {
                     angle: pair(group.angle),
                 })
                 .collect(),
+        }),
+        fair: queue.fair().map(|f| FairJson {
+            seed: f.seed,
+            head: f.head,
+            tries: f.tries,
         }),
     }
 }

@@ -8,8 +8,8 @@ mod json;
 mod target;
 
 pub use dump::{
-    Dump, DumpError, GeneratorJson, GroupJson, ParticleJson, PendingJson, QueueJson, SolverJson,
-    WallsJson,
+    Dump, DumpError, FairJson, GeneratorJson, GroupJson, ParticleJson, PendingJson, QueueJson,
+    SolverJson, WallsJson,
 };
 pub use frames::{
     FORCES_HEADER, MATERIAL_COLUMNS, TRAJECTORY_HEADER, trajectory_header, write_forces_frame,

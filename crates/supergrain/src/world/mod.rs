@@ -8,7 +8,7 @@ mod spawn;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use scene::{Group, PRESETS, Range, Scene, SceneError};
-pub use spawn::{Generator, Pending, Queue};
+pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
@@ -169,28 +169,47 @@ impl World {
         Ok(stats)
     }
 
-    /// A new grain never appears inside another: a due grain whose place is taken waits, and
-    /// the grains due after it whose places are free appear meanwhile, in queue order.
+    /// A new grain never appears inside another, by the queue's rule (see [`SpawnRule`]). A grain
+    /// placed under the top (the fair rule's band) comes with the speed of a fall from the top,
+    /// as LAMMPS's `fix pour` gives it: the flow below the top is the same whatever the height
+    /// a grain was placed at, and none is placed at rest under a grain falling onto it. Under
+    /// the fair rule a place inside a `[[plane]]` is taken too.
     fn spawn(&mut self) {
         // The grains' boxes, made once and only when a grain is due.
         let mut boxes: Option<Vec<Aabb>> = None;
-        let (bodies, settings, top) = (&mut self.bodies, &self.settings, self.top);
-        let place = |p: &Pending| {
-            let body = Body {
+        let (bodies, settings, planes, top) =
+            (&mut self.bodies, &self.settings, &self.planes, self.top);
+        let fair = self.pending.rule() == SpawnRule::Fair;
+        let place = |p: &Pending, at: Vec2| {
+            let mut body = Body {
                 group: p.group,
-                ..Body::at_rest(p.shape, &Pose::from_parts(Vec2::new(p.x, top), p.angle))
+                ..Body::at_rest(p.shape, &Pose::from_parts(at, p.angle))
             };
+            if at.y < top {
+                let v = fall_speed(settings, top - at.y);
+                match settings.model {
+                    Model::Soft => body.velocity = Vec2::new(0.0, -v),
+                    // Verlet's velocity is the step's displacement.
+                    Model::Paper => body.previous_center.y += v * settings.step,
+                }
+            }
             let bb = body.bounding_box();
             let boxes =
                 boxes.get_or_insert_with(|| bodies.iter().map(Body::bounding_box).collect());
-            if overlaps_any(settings, bodies, boxes, &body, &bb) {
+            if overlaps_any(settings, bodies, boxes, &body, &bb)
+                || (fair
+                    && planes
+                        .iter()
+                        .any(|w| wall_contact(settings, &body, w).overlap()))
+            {
                 return false;
             }
             boxes.push(bb);
             bodies.push(body);
             true
         };
-        self.pending.spawn(self.step, place, &mut self.undo.spawned);
+        self.pending
+            .spawn(self.step, &self.walls, top, place, &mut self.undo.spawned);
     }
 
     /// Whether `body` would overlap a grain of the world (the rule that keeps spawned grains
@@ -400,6 +419,20 @@ impl World {
             })
         });
         deepest
+    }
+}
+
+/// The speed of a grain fallen `height` from rest: `sqrt(2 g height)` for the soft model
+/// (without its optional air drag); for the paper's, whose damping caps a fall at
+/// `g h / delta` (0.98 with its settings), the smaller of the two.
+fn fall_speed(settings: &Settings, height: f64) -> f64 {
+    let free = (2.0 * settings.gravity * height.max(0.0)).sqrt();
+    match settings.model {
+        Model::Soft => free,
+        Model::Paper if settings.damping > 0.0 => {
+            free.min(settings.gravity * settings.step / settings.damping)
+        }
+        Model::Paper => free,
     }
 }
 

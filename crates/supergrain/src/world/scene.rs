@@ -8,6 +8,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
 use super::checks;
+use super::spawn::SpawnRule;
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::geometry::Vec2;
 use crate::shape::{HalfPlane, ShapeError, Superellipse};
@@ -110,6 +111,8 @@ pub struct Scene {
     pub spawn_interval: u32,
     /// Grains due at each spawn (each at its own random place; one whose place is taken waits).
     pub spawn_count: u32,
+    /// How due grains appear when their place is taken (`[spawn] rule`; see [`SpawnRule`]).
+    pub spawn_rule: SpawnRule,
     pub settings: Settings,
     pub groups: Vec<Group>,
     /// What the walls are made of (the soft step's).
@@ -192,6 +195,7 @@ impl Scene {
             top: 10.0,
             spawn_interval: 20,
             spawn_count: 1,
+            spawn_rule: SpawnRule::Queue,
             settings: Settings {
                 strip_width: auto_strip_width(std::slice::from_ref(&g)),
                 ..Settings::default()
@@ -369,6 +373,21 @@ impl Scene {
             }
             Some(c) => *c.get_ref(),
         };
+        // The fair rule with the soft model; the paper's keeps the rule its runs were made with.
+        let spawn_rule = match file.spawn.as_ref().and_then(|s| s.rule.as_ref()) {
+            None if settings.model == Model::Soft => SpawnRule::Fair,
+            None => SpawnRule::Queue,
+            Some(r) => match r.get_ref().as_str() {
+                "fair" => SpawnRule::Fair,
+                "queue" => SpawnRule::Queue,
+                other => {
+                    return Err(invalid(
+                        r.span(),
+                        format!("spawn: rule must be \"fair\" or \"queue\", got {other:?}"),
+                    ));
+                }
+            },
+        };
         settings.strip_width = s
             .strip_width
             .map_or_else(|| auto_strip_width(&groups), |v| v.0);
@@ -408,8 +427,9 @@ impl Scene {
                 floor: b.floor.get_ref().0,
             },
             top: b.top.get_ref().0,
-            spawn_interval: file.spawn.as_ref().map_or(20, |s| s.interval),
+            spawn_interval: file.spawn.as_ref().and_then(|s| s.interval).unwrap_or(20),
             spawn_count,
+            spawn_rule,
             settings,
             groups,
             wall_material: material(b.density, b.friction, b.restitution, b.rolling_resistance),
@@ -536,8 +556,10 @@ struct BoxSpec {
 #[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 struct SpawnSpec {
-    interval: u32,
+    interval: Option<u32>,
     count: Option<toml::Spanned<u32>>,
+    /// "fair" or "queue" (see [`SpawnRule`]); checked by hand, so that the error names the key.
+    rule: Option<toml::Spanned<String>>,
 }
 
 #[derive(Deserialize, Default)]

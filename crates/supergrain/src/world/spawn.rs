@@ -8,9 +8,19 @@
 //! changes none of its numbers, and a dump needs no generator position. The only grains held one
 //! by one are those drawn and waiting for their place.
 //!
-//! The rule (another may replace it, behind [`Queue::spawn`]): grain `k` is due at step
-//! `k / spawn_count * spawn_interval`; due grains are offered a place in queue order; one whose
-//! place is taken waits, and the grains due after it whose places are free appear meanwhile.
+//! Grain `k` is due at step `k / spawn_count * spawn_interval`, and due grains are offered a
+//! place in queue order, by one of two rules ([`SpawnRule`]):
+//! - `queue` (the paper's model's default): a grain is offered its drawn `x` at the top; one
+//!   whose place is taken waits, and the grains due after it whose places are free appear
+//!   meanwhile. Large grains are blocked more often than small ones, so a mixture arrives
+//!   sorted, small first.
+//! - `fair` (the soft model's default), after LAMMPS's `fix pour`: grains appear strictly in
+//!   queue order. The next grain is offered its drawn `x` at the top, then other places drawn
+//!   at random in the insertion band under the top ([`BAND_IN_RADII`] of its bounding radii
+//!   deep), up to [`TRIES_PER_STEP`] a step, as if it had fallen there from the top; until one
+//!   is free, the grains after it wait undrawn. Each group's share of the grains that appear
+//!   is then its share of the queue at every moment. The places tried come from the grain's
+//!   own stream `k` too, far past its draw, so a dump needs only the count of places tried.
 
 use std::collections::VecDeque;
 
@@ -21,6 +31,69 @@ use super::scene::{Group, Range, Scene};
 use crate::geometry::Vec2;
 use crate::shape::{Pose, Superellipse};
 use crate::solver::Walls;
+
+/// How due grains appear (see the module's doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SpawnRule {
+    /// A blocked grain waits and the grains after it may appear first (the paper's model's
+    /// default: its presets' runs stay what they were).
+    #[default]
+    Queue,
+    /// Grains appear in queue order; a blocked one is offered other places in the insertion
+    /// band (the soft model's default).
+    Fair,
+}
+
+/// The depth of the fair rule's band under the top, in the grain's bounding radii: two
+/// diameters, room for a few rows of places besides the top's.
+pub const BAND_IN_RADII: f64 = 4.0;
+
+/// The most places the fair rule offers the next grain in one step. A place costs one pass over
+/// the grains' boxes; with a share `f` of the band's places taken, eight find a free one within
+/// the step with probability `1 - f^8` (96% at two thirds taken).
+pub const TRIES_PER_STEP: u64 = 8;
+
+/// Where the fair rule stands: the next grain to appear and the places it has been offered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fair {
+    /// The scene's seed (kept when the generator is done with it).
+    pub seed: u64,
+    /// The queue index of the next grain to appear.
+    pub head: u64,
+    /// The places it has been offered so far (0: none yet).
+    pub tries: u64,
+}
+
+impl Fair {
+    /// Where grain `head` (`p`) is offered its place number `tries`: its drawn `x` at the top
+    /// first, then uniform in the band between the walls, its box inside them and above the
+    /// floor. Drawn from stream `head` of the seeded generator at word `tries << 32`, past the
+    /// few words its draw took.
+    fn place(&self, p: &Pending, walls: &Walls, top: f64) -> Vec2 {
+        if self.tries == 0 {
+            return Vec2::new(p.x, top);
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
+        rng.set_stream(self.head);
+        rng.set_word_pos(u128::from(self.tries) << 32);
+        let bb = p.shape.bounding_box(&Pose::from_parts(Vec2::ZERO, p.angle));
+        let (half_width, half_height) = (0.5 * bb.width(), 0.5 * bb.height());
+        let (lo, hi) = (walls.left + half_width, walls.right - half_width);
+        let x = if lo < hi {
+            rng.random_range(lo..=hi)
+        } else {
+            0.5 * (walls.left + walls.right)
+        };
+        let depth = BAND_IN_RADII * p.shape.bounding_radius();
+        let low = (top - depth).max(walls.floor + half_height);
+        let y = if low < top {
+            rng.random_range(low..=top)
+        } else {
+            top
+        };
+        Vec2::new(x, y)
+    }
+}
 
 /// A grain drawn, waiting to appear.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -183,9 +256,12 @@ impl Generator {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Queue {
     /// Drawn and not yet appeared, in queue order: grains whose place was taken when they were
-    /// due (or a dump's list from before the generator, due steps and all).
+    /// due (or a dump's list from before the generator, due steps and all). Under the fair rule,
+    /// at most the next grain to appear.
     waiting: VecDeque<Pending>,
     generator: Option<Generator>,
+    /// The fair rule's state; `None`: the queue rule.
+    fair: Option<Fair>,
 }
 
 /// What [`Queue::spawn`] changed, for [`Queue::undo`].
@@ -197,10 +273,12 @@ pub(crate) struct Taken {
     left_waiting: usize,
     /// The generator before the first draw, when one was drawn.
     generator: Option<Option<Generator>>,
+    /// The fair rule's state before.
+    fair: Option<Fair>,
 }
 
 impl Queue {
-    /// Every grain of a scene, none drawn yet.
+    /// Every grain of a scene, none drawn yet, to appear by the scene's rule.
     pub fn new(scene: &Scene) -> Queue {
         Queue {
             waiting: VecDeque::new(),
@@ -212,12 +290,40 @@ impl Queue {
                 scene.walls,
                 scene.groups.clone(),
             ),
+            fair: (scene.spawn_rule == SpawnRule::Fair).then_some(Fair {
+                seed: scene.seed,
+                head: 0,
+                tries: 0,
+            }),
         }
     }
 
-    /// A queue of grains already drawn (in queue order) and those still to draw (a restart).
-    pub fn from_parts(waiting: VecDeque<Pending>, generator: Option<Generator>) -> Queue {
-        Queue { waiting, generator }
+    /// A queue of grains already drawn (in queue order) and those still to draw (a restart),
+    /// with the fair rule's state, or `None` for the queue rule.
+    pub fn from_parts(
+        waiting: VecDeque<Pending>,
+        generator: Option<Generator>,
+        fair: Option<Fair>,
+    ) -> Queue {
+        Queue {
+            waiting,
+            generator,
+            fair,
+        }
+    }
+
+    /// The rule by which the grains appear.
+    pub fn rule(&self) -> SpawnRule {
+        if self.fair.is_some() {
+            SpawnRule::Fair
+        } else {
+            SpawnRule::Queue
+        }
+    }
+
+    /// The fair rule's state, under that rule.
+    pub fn fair(&self) -> Option<&Fair> {
+        self.fair.as_ref()
     }
 
     /// The grains drawn and waiting, in queue order.
@@ -291,19 +397,28 @@ impl Queue {
             && self.generator.iter().flat_map(Generator::live).all(circles)
     }
 
-    /// Offers the grains due at `step` their place, in queue order: `place` makes a grain
-    /// appear and says so, or says its place is taken. The waiting grains come first, up to the
-    /// first not yet due; then the grains due are drawn, and those that did not appear wait.
-    /// `taken` records the changes for [`Queue::undo`].
+    /// Offers the grains due at `step` a place in the box `walls` under `top`, in queue order:
+    /// `place` makes a grain appear with its centre at the point given and says so, or says that
+    /// place is taken. By the queue rule each grain is offered its drawn `x` at `top`: the
+    /// waiting grains come first, up to the first not yet due; then the grains due are drawn,
+    /// and those that did not appear wait. By the fair rule see [`Queue::spawn_fair`]. `taken`
+    /// records the changes for [`Queue::undo`].
     pub(crate) fn spawn(
         &mut self,
         step: u64,
-        mut place: impl FnMut(&Pending) -> bool,
+        walls: &Walls,
+        top: f64,
+        mut place: impl FnMut(&Pending, Vec2) -> bool,
         taken: &mut Taken,
     ) {
         taken.waiting.clear();
         taken.left_waiting = 0;
         taken.generator = None;
+        taken.fair = self.fair;
+        if self.fair.is_some() {
+            return self.spawn_fair(step, walls, top, place, taken);
+        }
+        let mut place = |p: &Pending| place(p, Vec2::new(p.x, top));
         let mut k = 0;
         while k < self.waiting.len() {
             let p = self.waiting[k];
@@ -334,6 +449,62 @@ impl Queue {
         }
     }
 
+    /// The fair rule: the next grain, once due, is offered its places one after another (see
+    /// [`Fair::place`]), at most [`TRIES_PER_STEP`] this step; if none is free it waits, and so
+    /// do all the grains after it, undrawn. Once it appears, the next one is drawn and offered
+    /// its places in turn.
+    fn spawn_fair(
+        &mut self,
+        step: u64,
+        walls: &Walls,
+        top: f64,
+        mut place: impl FnMut(&Pending, Vec2) -> bool,
+        taken: &mut Taken,
+    ) {
+        let Some(mut fair) = self.fair else { return };
+        loop {
+            let (p, drawn) = match self.waiting.front() {
+                Some(&p) if p.due <= step => (p, false),
+                Some(_) => break,
+                None => match self.generator.as_mut() {
+                    Some(g) if g.next_due() <= step => {
+                        if taken.generator.is_none() {
+                            taken.generator = Some(Some(g.clone()));
+                        }
+                        let p = g.draw();
+                        if g.remaining == 0 {
+                            self.generator = None;
+                        }
+                        (p, true)
+                    }
+                    _ => break,
+                },
+            };
+            let mut appeared = false;
+            for _ in 0..TRIES_PER_STEP {
+                appeared = place(&p, fair.place(&p, walls, top));
+                fair.tries = fair.tries.saturating_add(1);
+                if appeared {
+                    break;
+                }
+            }
+            if !appeared {
+                if drawn {
+                    self.waiting.push_back(p);
+                    taken.left_waiting += 1;
+                }
+                break;
+            }
+            if !drawn {
+                self.waiting.pop_front();
+                taken.waiting.push((0, p));
+            }
+            fair.head += 1;
+            fair.tries = 0;
+        }
+        self.fair = Some(fair);
+    }
+
     /// Puts the queue back as it was before the [`Queue::spawn`] that recorded `taken`.
     pub(crate) fn undo(&mut self, taken: &Taken) {
         for _ in 0..taken.left_waiting {
@@ -345,5 +516,56 @@ impl Queue {
         if let Some(g) = &taken.generator {
             self.generator.clone_from(g);
         }
+        self.fair = taken.fair;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Spawns the circles preset by the fair rule, every grain due at step 0, a place in every
+    /// `free_every` offered being free, round after round; undoes each round and checks the
+    /// queue is as it was, then redoes it. The first place offered a grain is its drawn `x` at
+    /// the top, the others in the band between the walls; grains appear in queue order, and
+    /// a blocked one waits alone.
+    #[test]
+    fn the_fair_rule_offers_places_in_order_and_a_spawn_undoes_exactly() {
+        let mut scene = Scene::preset("circles").expect("a preset");
+        scene.spawn_rule = SpawnRule::Fair;
+        scene.spawn_interval = 0;
+        let mut queue = Queue::new(&scene);
+        let dealt: Vec<Pending> = queue.iter().collect();
+        let (walls, top) = (scene.walls, scene.top);
+        let (mut appeared, mut offered, mut last) = (Vec::new(), 0u64, None);
+        let mut taken = Taken::default();
+        for free_every in [1, 3, 20, 2, 9, 1] {
+            let before = queue.clone();
+            let place = |p: &Pending, at: Vec2| {
+                offered += 1;
+                if last != Some(*p) {
+                    assert_eq!(at, Vec2::new(p.x, top), "a grain's first place");
+                    last = Some(*p);
+                }
+                let r = p.shape.bounding_radius();
+                assert!(walls.left <= at.x - r && at.x + r <= walls.right);
+                assert!(top - BAND_IN_RADII * r <= at.y && at.y <= top);
+                let free = offered % free_every == 0;
+                if free {
+                    appeared.push(*p);
+                }
+                free
+            };
+            queue.spawn(0, &walls, top, place, &mut taken);
+            let after = queue.clone();
+            queue.undo(&taken);
+            assert_eq!(queue, before, "undone, free every {free_every}");
+            queue = after;
+            assert!(queue.waiting().len() <= 1);
+        }
+        assert!(appeared.len() > 5);
+        assert_eq!(appeared[..], dealt[..appeared.len()], "queue order");
+        let fair = queue.fair().expect("the fair rule");
+        assert_eq!(fair.head, appeared.len() as u64);
     }
 }
