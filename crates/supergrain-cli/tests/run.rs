@@ -142,7 +142,11 @@ fn trajectory(text: &str) -> Vec<Row> {
     lines
         .map(|line| {
             let fields: Vec<&str> = line.split(',').collect();
-            assert_eq!(fields.len(), columns, "row {line:?} has not {columns} fields");
+            assert_eq!(
+                fields.len(),
+                columns,
+                "row {line:?} has not {columns} fields"
+            );
             assert_eq!(fields[12], "0", "the preset's grains are all of group 0");
             let f = |k: usize| -> f64 {
                 fields[k]
