@@ -248,7 +248,11 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                             }
                         }),
                         (_, Some((scene, neutral))) => Measured::Pour(match engine {
-                            Engine::Supergrain => crate::supergrain::pour(scene, threads, &o.rest),
+                            Engine::Supergrain => crate::supergrain::pour(
+                                &crate::supergrain::paper_scene(scene),
+                                threads,
+                                &o.rest,
+                            ),
                             Engine::Soft => crate::supergrain::pour(
                                 &crate::supergrain::soft_scene(scene),
                                 threads,

@@ -9,7 +9,7 @@ use supergrain::geometry::Vec2;
 use supergrain::solver::soft::{Material, SoftSettings};
 use supergrain::solver::strips::WIDTH_IN_RADII;
 use supergrain::solver::{Body, Model, Settings};
-use supergrain::world::{Scene, World};
+use supergrain::world::{Scene, SpawnRule, World};
 
 use crate::run::{HeapTiming, PourTiming, median};
 use crate::scene::{Rest, RestCounter};
@@ -49,9 +49,21 @@ pub fn soft_world(heap: &World) -> World {
     w
 }
 
-/// A scene poured by the soft model, with the default material everywhere.
+/// A scene poured by the paper's model (scene files now default to the soft one), by the spawn
+/// rule the peers follow (`overlap.rs`: a blocked grain waits while later ones pass it).
+pub fn paper_scene(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    s.settings.model = Model::Paper;
+    s.spawn_rule = SpawnRule::Queue;
+    s
+}
+
+/// A scene poured by the soft model, with the default material everywhere, by the spawn rule
+/// the peers follow (the soft model's own default, the fair rule, is not replicated on the
+/// peers' side yet).
 pub fn soft_scene(scene: &Scene) -> Scene {
     let mut s = scene.clone();
+    s.spawn_rule = SpawnRule::Queue;
     soft_settings(&mut s.settings);
     for g in &mut s.groups {
         g.material = Material::default();
