@@ -22,8 +22,11 @@ pub enum SceneArg {
     /// The 10,000-grain pour until rest (or --max-steps).
     #[value(name = "pour-10k")]
     Pour10k,
-    /// All three.
+    /// All three timed scenes (not repose).
     All,
+    /// The angle of repose of disks with rolling resistance poured onto a floor, for each
+    /// --frictions: supergrain's soft step next to Box2D (a measure of the physics, not of time).
+    Repose,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -54,14 +57,10 @@ pub struct Args {
     /// Circles alone or the mix of pebbles, rice and blocks.
     #[arg(long, value_enum, default_value = "both")]
     shapes: ShapesArg,
-    /// Engines, each run in turn.
-    #[arg(
-        long,
-        value_enum,
-        value_delimiter = ',',
-        default_value = "supergrain,soft,box2d,rapier"
-    )]
-    engines: Vec<EngineArg>,
+    /// Engines, each run in turn [default: supergrain,soft,box2d,rapier; repose: soft,box2d,
+    /// the two with rolling resistance].
+    #[arg(long, value_enum, value_delimiter = ',')]
+    engines: Option<Vec<EngineArg>>,
     /// Heap: timed steps per repetition.
     #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
     steps: u64,
@@ -80,6 +79,24 @@ pub struct Args {
     /// Pours: the most steps run (a pour not at rest by then says so).
     #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u64).range(1..))]
     max_steps: u64,
+    /// Repose: the grains' friction coefficients, one pour each (per engine and seed).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.1,0.3,0.5,0.8",
+        value_name = "MU"
+    )]
+    frictions: Vec<f64>,
+    /// Repose: the grains' rolling resistance (Box2D's `rollingResistance`).
+    #[arg(long, default_value_t = 0.1, value_name = "MU_R")]
+    rolling_resistance: f64,
+    /// Repose: pours per friction and engine, with seeds 1, 2, ...; the angles' mean and spread
+    /// are reported.
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: u64,
+    /// Repose: disks per pour.
+    #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(10..))]
+    grains: u64,
     /// Print {"cases": [...]} instead of a table.
     #[arg(long)]
     json: bool,
@@ -115,20 +132,8 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             args.rest_speed
         );
     }
-    let options = bench::Options {
-        scenes: match args.scene {
-            SceneArg::Heap => vec![SceneKind::Heap],
-            SceneArg::Pour1000 => vec![SceneKind::Pour1000],
-            SceneArg::Pour10k => vec![SceneKind::Pour10k],
-            SceneArg::All => SceneKind::ALL.to_vec(),
-        },
-        shapes: match args.shapes {
-            ShapesArg::Circles => vec![Shapes::Circles],
-            ShapesArg::Mix => vec![Shapes::Mix],
-            ShapesArg::Both => vec![Shapes::Circles, Shapes::Mix],
-        },
-        engines: args
-            .engines
+    let engines = args.engines.as_ref().map(|engines| {
+        engines
             .iter()
             .map(|e| match e {
                 EngineArg::Supergrain => Engine::Supergrain,
@@ -136,7 +141,25 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                 EngineArg::Box2d => Engine::Box2d,
                 EngineArg::Rapier => Engine::Rapier,
             })
-            .collect(),
+            .collect::<Vec<_>>()
+    });
+    if args.scene == SceneArg::Repose {
+        return repose(&args, engines, threads);
+    }
+    let options = bench::Options {
+        scenes: match args.scene {
+            SceneArg::Heap => vec![SceneKind::Heap],
+            SceneArg::Pour1000 => vec![SceneKind::Pour1000],
+            SceneArg::Pour10k => vec![SceneKind::Pour10k],
+            SceneArg::All => SceneKind::ALL.to_vec(),
+            SceneArg::Repose => unreachable!("handled above"),
+        },
+        shapes: match args.shapes {
+            ShapesArg::Circles => vec![Shapes::Circles],
+            ShapesArg::Mix => vec![Shapes::Mix],
+            ShapesArg::Both => vec![Shapes::Circles, Shapes::Mix],
+        },
+        engines: engines.unwrap_or_else(|| Engine::ALL.to_vec()),
         threads: threads.map_or(DEFAULT_THREADS.to_vec(), |n| vec![usize::from(n)]),
         warmup: args.warmup,
         steps: args.steps,
@@ -244,5 +267,128 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             o.rest.speed, o.rest.steps, o.rest.max_steps
         );
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--scene repose`: a table of the mean angle (and the seeds' spread) per friction and engine,
+/// or every pour as JSON or CSV. One thread unless `--threads` says otherwise (the angles do not
+/// depend on it: both engines give the same result on any number of threads).
+#[cfg(feature = "peers")]
+fn repose(
+    args: &Args,
+    engines: Option<Vec<supergrain_peers::bench::Engine>>,
+    threads: Option<u16>,
+) -> Result<ExitCode> {
+    use supergrain::measure::repose::Pour;
+    use supergrain_peers::repose::{self, Options};
+
+    if let Some(bad) = args
+        .frictions
+        .iter()
+        .find(|mu| !(mu.is_finite() && **mu > 0.0))
+    {
+        anyhow::bail!("--frictions: expected positive numbers, got {bad}");
+    }
+    if !(args.rolling_resistance.is_finite() && args.rolling_resistance >= 0.0) {
+        anyhow::bail!(
+            "--rolling-resistance: expected a number >= 0, got {}",
+            args.rolling_resistance
+        );
+    }
+    let defaults = Options::default();
+    let options = Options {
+        frictions: args.frictions.clone(),
+        rolling_resistance: args.rolling_resistance,
+        seeds: (1..=args.seeds).collect(),
+        pour: Pour {
+            grains: args.grains as usize,
+            rest_speed: args.rest_speed,
+            rest_steps: args.rest_steps,
+            max_steps: args.max_steps,
+            ..defaults.pour
+        },
+        engines: engines.unwrap_or(defaults.engines),
+        threads: threads.map_or(1, usize::from),
+    };
+    let runs = repose::runs(&options, &mut |run| eprintln!("running {run}"))
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let summaries = repose::summaries(&runs);
+    let pour = &options.pour;
+    if args.json || args.csv {
+        let rows: Vec<_> = runs
+            .iter()
+            .map(|r| {
+                let a = r.repose.as_ref();
+                serde_json::json!({
+                    "engine": r.engine.name(), "friction": r.friction,
+                    "rolling_resistance": options.rolling_resistance, "seed": r.seed,
+                    "grains": r.grains, "degrees": a.map(|a| a.degrees()),
+                    "left_degrees": a.map(|a| a.left.degrees),
+                    "right_degrees": a.map(|a| a.right.degrees),
+                    "left_points": a.map(|a| a.left.points),
+                    "right_points": a.map(|a| a.right.points),
+                    "apex_height": a.map(|a| a.apex.y), "steps": r.steps,
+                    "at_rest": r.at_rest, "seconds": r.seconds,
+                })
+            })
+            .collect();
+        if args.csv {
+            return crate::bench::print_csv(&rows);
+        }
+        let summary: Vec<_> = summaries
+            .iter()
+            .map(|s| {
+                serde_json::json!({
+                    "engine": s.engine.name(), "friction": s.friction, "degrees": s.degrees,
+                    "min": s.min, "max": s.max, "seeds": s.seeds,
+                })
+            })
+            .collect();
+        println!(
+            "{}",
+            serde_json::json!({
+                "runs": rows,
+                "summary": summary,
+                "pour": {
+                    "grains": pour.grains, "radius": pour.radius, "source": pour.source,
+                    "gap": pour.gap, "interval": pour.interval, "half_width": pour.half_width,
+                    "rolling_resistance": options.rolling_resistance,
+                    "rest": { "speed": pour.rest_speed, "steps": pour.rest_steps, "max_steps": pour.max_steps },
+                },
+            })
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    print!("{:>6}", "mu");
+    for e in &options.engines {
+        print!(" {:>24}", e.name());
+    }
+    println!();
+    for &mu in &options.frictions {
+        print!("{mu:>6}");
+        for &e in &options.engines {
+            let cell = summaries
+                .iter()
+                .find(|s| s.engine == e && s.friction == mu)
+                .filter(|s| s.seeds > 0)
+                .map_or("-".to_string(), |s| {
+                    format!("{:.1} ({:.1}-{:.1})", s.degrees, s.min, s.max)
+                });
+            print!(" {cell:>24}");
+        }
+        println!();
+    }
+    let resting = runs.iter().filter(|r| r.at_rest).count();
+    println!(
+        "angle of repose in degrees: the mean over {} seeds (their range), each the mean of the \
+         heap's two flanks; {} disks of radius {}-{}, rolling resistance {}, on a rough floor; \
+         {resting} of {} pours at rest",
+        options.seeds.len(),
+        pour.grains,
+        pour.radius[0],
+        pour.radius[1],
+        options.rolling_resistance,
+        runs.len()
+    );
     Ok(ExitCode::SUCCESS)
 }

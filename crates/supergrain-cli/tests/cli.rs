@@ -1064,6 +1064,21 @@ fn bench_peers_without_the_feature_says_how_to_build_it() {
             "1",
             "--json",
         ],
+        &[
+            "bench",
+            "peers",
+            "--scene",
+            "repose",
+            "--frictions",
+            "0.1,0.5",
+            "--rolling-resistance",
+            "0.2",
+            "--seeds",
+            "1",
+            "--grains",
+            "100",
+            "--csv",
+        ],
     ] {
         let o = run(args, None);
         assert_no_panic(&o);

@@ -39,15 +39,20 @@ impl Peer for Box2d {
             .build()
             .map_err(err)?;
         let mut world = foundation.create_world(def).map_err(err)?;
-        let material = SurfaceMaterial::new()
-            .with_friction(scene.friction as f32)
-            .and_then(|m| m.with_restitution(scene.restitution as f32))
-            .map_err(err)?;
-        let shape_def = ShapeDef::builder()
-            .material(material)
-            .density(scene.density as f32)
-            .build()
-            .map_err(err)?;
+        let shape_def = |friction: f64, rolling_resistance: f64| {
+            let material = SurfaceMaterial::new()
+                .with_friction(friction as f32)
+                .and_then(|m| m.with_restitution(scene.restitution as f32))
+                .and_then(|m| m.with_rolling_resistance(rolling_resistance as f32))
+                .map_err(err)?;
+            ShapeDef::builder()
+                .material(material)
+                .density(scene.density as f32)
+                .build()
+                .map_err(err)
+        };
+        let wall_def = shape_def(scene.wall_friction, scene.wall_rolling_resistance)?;
+        let shape_def = shape_def(scene.friction, scene.rolling_resistance)?;
         for (c, h) in wall_boxes(scene) {
             let body = world
                 .create_body(
@@ -61,7 +66,7 @@ impl Peer for Box2d {
             world
                 .body(body)
                 .map_err(err)?
-                .create_polygon(&shape_def, &polygon)
+                .create_polygon(&wall_def, &polygon)
                 .map_err(err)?;
         }
         let mut peer = Box2d {

@@ -8,6 +8,8 @@
 //!   [`supergrain`] runs our own `World`.
 //! - [`run`]: the two measurements, a settled heap stepped awake and a pour until rest.
 //! - [`bench`]: the cases of `bench peers` and their ratios to Box2D.
+//! - [`repose`]: the angle of repose of poured disks against friction, in supergrain's soft step
+//!   and Box2D (`--scene repose`): a measure of the physics, not of time.
 //!
 //! This crate has its own workspace, so that the main workspace's tests build neither engine;
 //! see `docs/peers.md`.
@@ -17,6 +19,7 @@ pub mod box2d;
 pub mod overlap;
 pub mod peer;
 pub mod rapier;
+pub mod repose;
 pub mod run;
 pub mod scene;
 pub mod supergrain;

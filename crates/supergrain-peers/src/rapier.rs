@@ -20,6 +20,11 @@ impl Peer for Rapier {
     const NAME: &'static str = "rapier2d";
 
     fn new(scene: &Scene, threads: usize, sleep: bool) -> Result<Self, Error> {
+        if scene.rolling_resistance > 0.0 || scene.wall_rolling_resistance > 0.0 {
+            return Err(Error(
+                "rapier2d has no rolling resistance (the scene asks for it)".into(),
+            ));
+        }
         let mut world = PhysicsWorld::new();
         world.gravity = Vector::new(0.0, -scene.gravity as f32);
         world.integration_parameters.dt = scene.time_step as f32;
@@ -39,7 +44,7 @@ impl Peer for Rapier {
         for (c, h) in wall_boxes(scene) {
             let body = RigidBodyBuilder::fixed().translation(Vector::new(c[0] as f32, c[1] as f32));
             let collider = ColliderBuilder::cuboid(h[0] as f32, h[1] as f32)
-                .friction(peer.friction)
+                .friction(scene.wall_friction as f32)
                 .restitution(peer.restitution);
             peer.world.insert(body, collider);
         }

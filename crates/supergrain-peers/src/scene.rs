@@ -187,6 +187,15 @@ pub struct Scene {
     pub friction: f64,
     pub restitution: f64,
     pub density: f64,
+    /// The rolling-resistance coefficient `mu_r` of grains and walls alike (Box2D's
+    /// `rollingResistance`: the torque resisting rolling is at most `mu_r` times the larger
+    /// radius of the two shapes times the normal force; supergrain's soft step takes the
+    /// contact's mean lever instead). rapier2d has none, and refuses a scene with it.
+    pub rolling_resistance: f64,
+    /// The walls' and the floor's friction and rolling resistance (mixed with a grain's by the
+    /// engine's rules): the grains' own in the timed scenes.
+    pub wall_friction: f64,
+    pub wall_rolling_resistance: f64,
     /// Grains in place at the start.
     pub grains: Vec<Grain>,
     /// Grains to appear, in queue order.
@@ -257,6 +266,9 @@ impl Scene {
             friction: FRICTION,
             restitution: RESTITUTION,
             density: DENSITY,
+            rolling_resistance: 0.0,
+            wall_friction: FRICTION,
+            wall_rolling_resistance: 0.0,
             grains: Vec::new(),
             spawns: Vec::new(),
             top: world.top,

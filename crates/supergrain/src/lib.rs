@@ -14,6 +14,7 @@
 //! | broad phase | [`broad_phase`] | III-A |
 //! | Verlet + projection | [`solver`] | III |
 //! | world, scenes, spawning | [`world`] | III, IV |
+//! | a heap's angle of repose and packing | [`measure`] | |
 //! | pictures | [`render`] | II-B |
 //! | JSON forms | [`io`] | |
 //! | benchmark scenes | [`bench`] | IV-A |
@@ -24,6 +25,7 @@ pub mod contact;
 pub mod geometry;
 pub mod interval;
 pub mod io;
+pub mod measure;
 pub mod render;
 pub mod shape;
 pub mod solver;
