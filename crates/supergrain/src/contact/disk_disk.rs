@@ -30,23 +30,19 @@ pub fn disk_disk(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<(Vec2, f64)> {
 /// circle pairs: the certified Newton path's answer without its solves.
 pub fn disk_disk_certified(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> super::Contact {
     let d = cb - ca;
-    let dist2 = d.dot(d);
     let reach = ra + rb;
-    let penetration = (dist2 < reach * reach * (1.0 - 1e-14)).then(|| {
-        let dist = dist2.sqrt();
-        let n = if dist > 0.0 {
-            d * (1.0 / dist)
-        } else {
-            Vec2::new(1.0, 0.0)
-        };
-        let depth = reach - dist;
-        super::Penetration {
-            a_deepest: if dist < ra { cb } else { ca + n * ra },
-            b_deepest: if dist < rb { ca } else { cb - n * rb },
+    let proven = d.dot(d) < reach * reach * (1.0 - 1e-14);
+    // The normal and depth of the plain closed form, once the overlap is proven; a depth
+    // beyond B's radius puts B's centre in A.
+    let penetration = proven
+        .then(|| disk_disk(ca, ra, cb, rb))
+        .flatten()
+        .map(|(n, depth)| super::Penetration {
+            a_deepest: if depth > rb { cb } else { ca + n * ra },
+            b_deepest: if depth > ra { ca } else { cb - n * rb },
             a_push: n * -depth,
             b_push: n * depth,
-        }
-    });
+        });
     super::Contact {
         penetration,
         cells: 0,
