@@ -324,7 +324,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             break;
         }
     }
-    if (args.until_rest || interrupted) && done % args.every != 0 {
+    if (args.until_rest || interrupted) && !done.is_multiple_of(args.every) {
         frame(&world, &mut trajectory, &mut failures);
     }
     bar.finish_and_clear();

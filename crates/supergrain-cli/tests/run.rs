@@ -443,7 +443,10 @@ fn a_killed_run_keeps_its_last_checkpoint() {
     let step = read_json(&dump)["step"]
         .as_u64()
         .expect("a checkpoint with its step");
-    assert!(step > 0 && step % 40 == 0, "checkpoint at step {step}");
+    assert!(
+        step > 0 && step.is_multiple_of(40),
+        "checkpoint at step {step}"
+    );
     let reference = dir.path().join("reference.json");
     ok(&sg(&[
         "run",

@@ -170,7 +170,11 @@ fn a_frictionless_bidisperse_heap_packs_near_random_close_packing() {
     // Spread over a column about three times the heap's height.
     let height = 400.0 * 0.29 / (2.0 * half) / 0.35;
     while disks.len() < 400 {
-        let r = if disks.len() % 2 == 0 { 0.25 } else { 0.35 };
+        let r = if disks.len().is_multiple_of(2) {
+            0.25
+        } else {
+            0.35
+        };
         let d = Disk::new(
             rng.random_range(-half + r..half - r),
             rng.random_range(r..height),
