@@ -207,6 +207,14 @@ impl Aabb {
         (b.min.x <= b.max.x && b.min.y <= b.max.y).then_some(b)
     }
 
+    /// The smallest box holding both.
+    pub fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: Vec2::new(self.min.x.min(o.min.x), self.min.y.min(o.min.y)),
+            max: Vec2::new(self.max.x.max(o.max.x), self.max.y.max(o.max.y)),
+        }
+    }
+
     pub fn intersects(&self, o: &Aabb) -> bool {
         self.min.x <= o.max.x
             && o.min.x <= self.max.x

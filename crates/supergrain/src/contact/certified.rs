@@ -26,6 +26,7 @@
 //! proof. When it fails, the caller runs the quadtree: the answer is never less certain than
 //! the paper's, only faster when Newton has found the point.
 
+use super::boundary::deepest_on_boundary;
 use super::ray::push_out;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
@@ -69,14 +70,26 @@ pub(crate) fn convex(s: &Superellipse) -> bool {
 ///
 /// `warm`: where the last query of this pair found its points (a persisting contact), updated
 /// with this query's.
+///
+/// Convex pairs are solved by Newton; the others, and convex pairs Newton could not certify, by
+/// the boundary search ([`super::boundary`]), whose witnesses are proven inside over a box of
+/// half-width `slack` (a few ulps of the world coordinates they are reported in).
 pub(crate) fn certified_contact(
     local_a: &PlacedSuperellipse,
     local_b: &PlacedSuperellipse,
     cell: f64,
+    slack: f64,
     warm: &mut Option<WarmStart>,
 ) -> Option<Certified> {
+    let newton = eligible(local_a.shape(), local_b.shape());
+    let deepest = |own: &PlacedSuperellipse, other: &PlacedSuperellipse, start: Option<Vec2>| {
+        if newton && let Some(found) = deepest(own, other, cell, start) {
+            return Some(found);
+        }
+        deepest_on_boundary(own, other, cell, slack)
+    };
     let last = warm.take();
-    let a1 = match deepest(local_a, local_b, cell, last.map(|w| w.a1))? {
+    let a1 = match deepest(local_a, local_b, last.map(|w| w.a1))? {
         (Deepest::Beyond, x) => {
             *warm = Some(WarmStart { a1: x, a2: None });
             return Some(Certified::Apart);
@@ -91,7 +104,7 @@ pub(crate) fn certified_contact(
     // A2 is near A1 unless the overlap is deep: start there, seen from B, unless known.
     let a1_in_b = rel_ba.to_world(a1);
     let start = last.and_then(|w| w.a2).unwrap_or(a1_in_b);
-    let a2 = match deepest(&b_local, &a_in_b, cell, Some(start))? {
+    let a2 = match deepest(&b_local, &a_in_b, Some(start))? {
         (Deepest::At(a2), _) => a2,
         // No point of B is deeper in A than half a final cell ([`touch_level`]), yet A1 is
         // proven inside both: an overlap within rounding of touching (resting grains). A1 is
@@ -129,7 +142,7 @@ impl WarmStart {
     }
 }
 
-enum Deepest {
+pub(crate) enum Deepest {
     /// No point of `own` lies in `other` deeper than half a final cell.
     Beyond,
     /// The point of `own` most interior to `other` (up to `tau`), proven inside both.
@@ -201,7 +214,7 @@ fn deepest(
 /// hundreds) it exceeds 1, a level every point of `other` is above, so two shapes a tenth of
 /// their size deep in each other were "proven" apart (`supergrain contact --a
 /// 0,0,0.183,0.387,0.423,400,400 --b 0.86,-0.44,2.933,0.439,0.483,400,400`).
-fn touch_level(other: &Superellipse, cell: f64) -> f64 {
+pub(crate) fn touch_level(other: &Superellipse, cell: f64) -> f64 {
     let e_min = other.exponents()[0].min(other.exponents()[1]);
     let x = 0.5 * cell / other.bounding_radius();
     let touch = -(-e_min * x.ln_1p()).exp_m1();

@@ -4,6 +4,7 @@
 //! gives `B2`, and `A1 -> B2` estimates the penetration of A into B (`a_push`, the way A should
 //! move to get out). `A2`, `B1` and `b_push` likewise for B.
 
+mod boundary;
 mod certified;
 mod disk_disk;
 pub mod manifold;

@@ -71,8 +71,12 @@ pub(crate) fn separating(
     if !(wrong_way(ka) || wrong_way(kb) || stars) {
         return None;
     }
+    // A deepest point at the other's very centre (the answer when a shape holds that centre)
+    // has no gradient there to push along: its push went an arbitrary way (measured, a star
+    // holding another's centre was pushed 0.0015 along the centres' line for an overlap 0.16
+    // deep), and its exit along the normal is the way out.
     let keep = |push: Vec2, k: f64, way: Vec2, from: Vec2, out_of: &PlacedSuperellipse| {
-        if wrong_way(k) {
+        if wrong_way(k) || from == out_of.pose().center() {
             exit_along(out_of, from, way)
         } else if stars {
             way * k

@@ -88,9 +88,6 @@ fn certified_or_quadtree(
     warm: &mut Option<WarmStart>,
     answer: Answer,
 ) -> Contact {
-    if !certified::eligible(a, b) {
-        return cells_and_contact(a, pose_a, b, pose_b, precision, &mut (), answer);
-    }
     let Some((local_a, local_b, region)) = frame(a, pose_a, b, pose_b) else {
         return Contact {
             penetration: None,
@@ -98,7 +95,8 @@ fn certified_or_quadtree(
         };
     };
     let cell = precision.cell_size(&region);
-    match certified::certified_contact(&local_a, &local_b, cell, warm) {
+    match certified::certified_contact(&local_a, &local_b, cell, world_slack(pose_a, &region), warm)
+    {
         Some(Certified::Apart) => Contact {
             penetration: None,
             cells: 0,
@@ -244,9 +242,8 @@ fn quadtree<S: CellSink + ?Sized>(
     let (mut in_a, mut in_b) = (found.in_a, found.in_b);
     // A few ulps of the world coordinates the points are reported in: a point moved by the
     // searches is proven inside over a box this wide about it ([`spike_witness`]).
-    let scale = pose_a.center().norm() + region.min.norm().max(region.max.norm());
     let slack = if answer == Answer::Sound {
-        8.0 * f64::EPSILON * scale
+        world_slack(pose_a, region)
     } else {
         0.0
     };
@@ -289,6 +286,14 @@ fn quadtree<S: CellSink + ?Sized>(
         penetration,
         cells: found.cells,
     }
+}
+
+/// A few ulps of the world coordinates a point of the pair's `region` (in A's frame) is
+/// reported in: a point proven inside both over a box this wide about it stays inside when
+/// moved to the world ([`spike_witness`]).
+fn world_slack(pose_a: &Pose, region: &Aabb) -> f64 {
+    let scale = pose_a.center().norm() + region.min.norm().max(region.max.norm());
+    8.0 * f64::EPSILON * scale
 }
 
 /// The deeper of two candidates for a deepest point (the smaller bound of the other's `f`).

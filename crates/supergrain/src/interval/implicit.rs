@@ -229,6 +229,20 @@ impl PlacedSuperellipse {
         &self.shape
     }
 
+    /// A lower bound of `f` over the box: [`ImplicitShape::enclose`]'s lower end alone, two
+    /// powers at most, and none for a box beyond the shape's box along one axis (`|u| > 1`),
+    /// where 0 is returned (the shape's `f` is positive there).
+    #[inline]
+    pub(crate) fn lower_bound(&self, cell: &Aabb) -> f64 {
+        let [ex, ey] = self.exponents;
+        let u = self.maps[0].enclose(cell).abs();
+        let v = self.maps[1].enclose(cell).abs();
+        if u.lo > 1.0 || v.lo > 1.0 {
+            return 0.0;
+        }
+        down(down(ex.pow_down(u.lo) + ey.pow_down(v.lo)) - 1.0)
+    }
+
     pub fn pose(&self) -> &Pose {
         &self.pose
     }
