@@ -57,6 +57,7 @@ struct Half {
     /// Whether the parameter is the scaled `y` (else `x`).
     by_y: bool,
     e_p: Exponent,
+    e_p_float: f64,
     /// `1 / e_q`, rounded.
     inv_q: f64,
     lo: f64,
@@ -79,6 +80,17 @@ impl Half {
         self.aabb(a, b)
     }
 
+    /// The boundary point at `p` in floating point.
+    fn point(&self, p: f64) -> Vec2 {
+        let w = (1.0 - p.powf(self.e_p_float)).max(0.0);
+        let (a, b) = (self.s_p * p, self.s_q * w.powf(self.inv_q));
+        if self.by_y {
+            Vec2::new(b, a)
+        } else {
+            Vec2::new(a, b)
+        }
+    }
+
     fn aabb(&self, a: Interval, b: Interval) -> Aabb {
         let (x, y) = if self.by_y { (b, a) } else { (a, b) };
         Aabb::new(Vec2::new(x.lo, y.lo), Vec2::new(x.hi, y.hi))
@@ -93,6 +105,7 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
         s_q: sy,
         by_y: false,
         e_p: Exponent::new(ex),
+        e_p_float: ex,
         inv_q: 1.0 / ey,
         lo,
         hi,
@@ -102,6 +115,7 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
         s_q: sx,
         by_y: true,
         e_p: Exponent::new(ey),
+        e_p_float: ey,
         inv_q: 1.0 / ex,
         lo,
         hi,
@@ -226,7 +240,9 @@ pub(crate) fn deepest_on_boundary(
         match best {
             Some(w) if lower >= w.value - w.tau => return Some((Deepest::At(w.point), w.point)),
             None if lower > -touch => {
-                return Some((Deepest::Beyond, arcs[k].b0.center()));
+                let near = arcs[k];
+                let at = table[usize::from(near.half)].point(0.5 * (near.p0 + near.p1));
+                return Some((Deepest::Beyond, at));
             }
             _ => {}
         }
@@ -237,8 +253,7 @@ pub(crate) fn deepest_on_boundary(
             return None;
         }
         let bm = half.enclose(mid);
-        // The boundary point, to the width of its enclosure (a few ulps): no more powers.
-        let q = bm.center();
+        let q = half.point(mid);
         let value = other.value(q);
         if value < 0.0 && best.is_none_or(|w| value < w.value) {
             for k in INWARD {

@@ -67,6 +67,43 @@ impl Manifold {
         }
     }
 
+    /// A star's regions (points and separations, [`regions`]) with the middle: those farther
+    /// than `apart` from each other, the deepest first, up to [`MAX_POINTS`], numbered in
+    /// their order across the normal (so that a point keeps its number, and its warm start,
+    /// as the regions deepen and ease in turn: numbered by depth, two spikes' points swapped
+    /// their impulses whenever they swapped places, and the heap trembled). A star touching
+    /// with two spikes, held by the deepest alone, rocks from spike to spike as the other
+    /// closes.
+    fn regions(&mut self, mut found: Vec<(Vec2, f64)>, apart: f64) {
+        found.push((self.points[0].point, self.points[0].separation));
+        found.sort_by(|x, y| x.1.total_cmp(&y.1));
+        let mut kept: Vec<(Vec2, f64)> = Vec::with_capacity(MAX_POINTS);
+        for (point, separation) in found {
+            if kept.len() == MAX_POINTS {
+                break;
+            }
+            if kept.iter().all(|p| (p.0 - point).norm() > apart) {
+                kept.push((point, separation));
+            }
+        }
+        let across = Vec2::new(self.normal.y, -self.normal.x);
+        kept.sort_by(|x, y| x.0.dot(across).total_cmp(&y.0.dot(across)));
+        // One point is the middle (0); two, the sides (1, 2); three, in order 1, 0, 2.
+        let ids: &[u8] = match kept.len() {
+            1 => &[0],
+            2 => &[1, 2],
+            _ => &[1, 0, 2],
+        };
+        for (k, ((point, separation), &id)) in kept.into_iter().zip(ids).enumerate() {
+            self.points[k] = ManifoldPoint {
+                point,
+                separation,
+                id,
+            };
+            self.len = k + 1;
+        }
+    }
+
     /// When the patch is wide, its two side points join the middle, and the middle counts as
     /// `tolerance` shallower than it is: it holds only a grain pressed into a face deeper than
     /// the sides by more than that (a round grain on a block's face: the sides alone would hold
@@ -87,6 +124,66 @@ impl Manifold {
             self.len = 3;
         }
     }
+}
+
+/// The separation of `q` from a shape, to first order: `f / |grad f|`.
+fn separation(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
+    let (f, g) = s.value_and_gradient(pose, q);
+    let len = g.norm();
+    if len > 0.0 { f / len } else { f64::INFINITY }
+}
+
+/// Whether a shape is a star (an exponent below 1), whose contacts can have several regions.
+fn star(s: &Superellipse) -> bool {
+    s.exponents().iter().any(|&e| e < 1.0)
+}
+
+/// Samples of a star's boundary searched for the other shape's regions.
+const STAR_SAMPLES: u32 = 96;
+
+/// The regions where `shape`'s boundary comes within `margin` of the other shape (by `gap`,
+/// its separation from it): the deepest sample of each run of samples within the margin, with
+/// its separation. A star's boundary sampled at evenly spaced classic parameters
+/// ([`Superellipse::boundary_point`]): they crowd at the spikes' tips, which is where a star
+/// touches.
+fn regions(
+    shape: &Superellipse,
+    pose: &Pose,
+    gap: impl Fn(Vec2) -> f64,
+    margin: f64,
+) -> Vec<(Vec2, f64)> {
+    let step = std::f64::consts::TAU / f64::from(STAR_SAMPLES);
+    let samples: Vec<(Vec2, f64)> = (0..STAR_SAMPLES)
+        .map(|k| {
+            let q = pose.to_world(shape.boundary_point(step * f64::from(k)));
+            (q, gap(q))
+        })
+        .collect();
+    let n = samples.len();
+    let Some(start) = (0..n).find(|&k| samples[k].1 >= margin) else {
+        // Every sample within the margin: one region, its deepest sample.
+        return samples
+            .iter()
+            .copied()
+            .min_by(|x, y| x.1.total_cmp(&y.1))
+            .into_iter()
+            .collect();
+    };
+    // Runs, starting after a sample beyond the margin so that none wraps around.
+    let mut found = Vec::new();
+    let mut run: Option<(Vec2, f64)> = None;
+    for k in 1..=n {
+        let (q, g) = samples[(start + k) % n];
+        if g < margin {
+            run = Some(match run {
+                Some(r) if r.1 <= g => r,
+                _ => (q, g),
+            });
+        } else if let Some(r) = run.take() {
+            found.push(r);
+        }
+    }
+    found
 }
 
 /// Whether a shape has flat-ish faces, whose contacts need the region's ends.
@@ -112,6 +209,12 @@ pub fn grain_manifold(
     let depth = (0.5 * (p.b_push.dot(normal) - p.a_push.dot(normal))).max(0.0);
     let middle = (p.a_deepest + p.b_deepest) * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
+    if star(a) || star(b) {
+        let mut found = regions(a, pose_a, |q| separation(b, pose_b, q), margin);
+        found.extend(regions(b, pose_b, |q| separation(a, pose_a, q), margin));
+        m.regions(found, min_gap(a, b));
+        return m;
+    }
     if blocky(a) || blocky(b) {
         let gap = |q: Vec2| {
             let (f, g) = b.value_and_gradient(pose_b, q);
@@ -138,6 +241,11 @@ pub fn wall_manifold(
     let depth = (-wall.value(p.deepest)).max(0.0);
     let middle = p.deepest + p.push * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
+    if star(shape) {
+        let found = regions(shape, pose, |q: Vec2| wall.value(q), margin);
+        m.regions(found, min_gap(shape, shape));
+        return m;
+    }
     if blocky(shape) {
         let gap = |q: Vec2| wall.value(q);
         m.sides(
