@@ -10,7 +10,8 @@ use supergrain::subdivision::{MAX_DEPTH, Precision};
 #[derive(Subcommand)]
 pub enum Bench {
     /// Narrow phase: ns per near-touching pair (centres at the touching distance x (1 +- 2%))
-    /// for circles, ellipses, exponent-4 shapes and mixed exponents in [0.5, 4], and the
+    /// for circles, ellipses, exponent-4 shapes, mixed exponents in [0.5, 4] and stars (exponents
+    /// in [0.25, 0.9]), by the certified path and by the quadtree alone, and the
     /// centre-distance test for circles as the floor, all in one run.
     Contact(ContactArgs),
     /// Whole simulation: the paper's four scenes through the interval narrow phase and the

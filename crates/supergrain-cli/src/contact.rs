@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::Parser;
-use supergrain::contact::{contact, contact_quadtree};
+use supergrain::contact::{contact, contact_quadtree, overlap_regions};
 use supergrain::io::{ContactAnswer, ContactQuery, ShapeJson};
 use supergrain::render::contact_svg;
 use supergrain::subdivision::{MAX_DEPTH, Precision};
@@ -20,18 +20,23 @@ JSON object {\"center\": [x, y], \"angle\": a, \"semi_axes\": [sx, sy], \"expone
 
 Output, one JSON line per pair:
   {\"overlap\": bool, \"a_deepest\": [x, y] | null, \"b_deepest\": ..., \"a_push\": [dx, dy] | null,
-   \"b_push\": ..., \"cells\": n}
+   \"b_push\": ..., \"cells\": n, \"contacts\": [{\"a_deepest\", \"b_deepest\", \"a_push\", \"b_push\"}, ...]}
 a_deepest is the point of A most interior to B; a_push moves it along grad f_B to B's boundary.
 `overlap` is certified: true only if a point was proven inside both shapes by interval
-arithmetic. false means touching within tolerance at most: no point of one shape lies more
-than the tolerance inside the other, a distance of half a final cell when Newton answered
-(cells: 0) and four final cells from the quadtree (a final cell: the longest side of the
-pair's box intersection over 2^depth). The pushes point apart along one normal.
+arithmetic. false means apart, or touching within the tolerance: no point of one shape lies
+more than the tolerance inside the other. The tolerance is a distance: half a final cell when
+the certified path answered (cells: 0), four final cells from the quadtree (a final cell: the
+longest side of the pair's box intersection over 2^depth). The pushes point apart along one
+normal. `contacts` lists every overlap region (two stars, or a star on a face, can touch in
+several places), the one of the fields above first, the others deepest first; regions nearer
+each other than a final cell (at most depth 10) count as one.
 Exponents must lie in [0.25, 1000] and semi-axes in [1e-9, 1e9].
-Convex pairs (every exponent >= 1) are answered by Newton's method with a proof: the deepest
-points are proven inside both shapes and deepest up to half a final cell, or the shapes are
-proven apart; `cells` is then 0. Without a proof, and for stars, the quadtree answers and
-`cells` counts the cells it classified. --quadtree always uses the quadtree (the paper's).
+The certified path answers every pair: Newton's method with a proof for convex pairs (every
+exponent >= 1), and a branch and bound over one shape's closed-form boundary for stars and
+when Newton finds no proof; either proves the deepest points inside both shapes and deepest
+up to half a final cell, or the shapes apart, and `cells` is then 0. When neither proves
+anything, the quadtree answers and `cells` counts the cells it classified. --quadtree always
+uses the quadtree (the paper's).
 
 Examples:
   supergrain contact --a 0,0,0,1,1,2,2 --b 1.9,0,0.3,1,0.5,4,4
@@ -56,7 +61,7 @@ pub struct Args {
     /// Tolerance: cell sides shorter than this are not split (0: depth alone decides).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     eps: f64,
-    /// Answer by the paper's quadtree alone, never by the certified Newton path.
+    /// Answer by the paper's quadtree alone, never by the certified path.
     #[arg(long)]
     quadtree: bool,
     /// Write the answers to FILE instead of standard output (replaced only when complete).
@@ -157,5 +162,7 @@ fn answer(
 ) -> Result<ContactAnswer, String> {
     let ((a, pa), (b, pb), precision) = query.resolve(defaults).map_err(|e| e.to_string())?;
     let method = if quadtree { contact_quadtree } else { contact };
-    Ok(ContactAnswer::from(&method(&a, &pa, &b, &pb, &precision)))
+    let found = method(&a, &pa, &b, &pb, &precision);
+    let regions = overlap_regions(&a, &pa, &b, &pb, &precision, found.penetration.as_ref());
+    Ok(ContactAnswer::from(&found).with_regions(&regions))
 }

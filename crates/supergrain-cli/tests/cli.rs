@@ -254,6 +254,33 @@ fn convex_pairs_are_answered_by_certified_newton_unless_asked_for_the_quadtree()
     );
 }
 
+/// A star (exponent 0.7) whose tips (1, 0) and (0, 1) both reach 0.03 into a large disk, which
+/// stays 0.04 short of the star between them: two regions in `contacts`, the first the
+/// top-level answer; apart, none.
+#[test]
+fn a_star_touching_with_two_spikes_lists_two_contacts() {
+    let r = 5f64.sqrt() + 0.03;
+    let disk = format!("2,2,0,{r},{r},2,2");
+    let v = single_answer(&ok(&run(
+        &["contact", "--a", "0,0,0,1,1,0.7,0.7", "--b", &disk],
+        None,
+    )));
+    let contacts = v["contacts"].as_array().expect("contacts");
+    assert_eq!(contacts.len(), 2, "{v}");
+    for key in ["a_deepest", "b_deepest", "a_push", "b_push"] {
+        assert_eq!(contacts[0][key], v[key], "{key}: {v}");
+    }
+    let mut tips: Vec<[f64; 2]> = contacts.iter().map(|c| point(c, "a_deepest")).collect();
+    tips.sort_by(|x, y| x[0].total_cmp(&y[0]));
+    assert!(dist(tips[0], [0.0, 1.0]) < 0.06, "{v}");
+    assert!(dist(tips[1], [1.0, 0.0]) < 0.06, "{v}");
+    let apart = single_answer(&ok(&run(
+        &["contact", "--a", A_CIRCLE, "--b", B_CIRCLE_21],
+        None,
+    )));
+    assert_eq!(apart["contacts"], serde_json::json!([]), "{apart}");
+}
+
 #[test]
 fn separated_unit_circles_by_flags_report_no_overlap_and_null_points() {
     let o = run(&["contact", "--a", A_CIRCLE, "--b", B_CIRCLE_21], None);
@@ -841,7 +868,7 @@ fn bench_contact_json_reports_all_cases_and_the_quadtree_agrees_with_the_floor()
     ));
     let v = single_answer(&out);
     let cases = v["cases"].as_array().expect("cases array");
-    assert_eq!(cases.len(), 9, "{v}");
+    assert_eq!(cases.len(), 11, "{v}");
     for c in cases {
         let name = c["name"].as_str().expect("name");
         let ns = c["ns_per_pair"].as_f64().expect("ns_per_pair");
@@ -890,7 +917,7 @@ fn bench_contact_json_reports_all_cases_and_the_quadtree_agrees_with_the_floor()
     assert!(ff - fq <= 0.1 + 1e-12, "quadtree {fq} vs floor {ff}");
     // The certified Newton path proves each circle pair apart or overlapping (no quadtree
     // cell), and so agrees with the exact test on every pair.
-    let newton = find(&|n| n.starts_with("circles") && n.contains("certified Newton"));
+    let newton = find(&|n| n.starts_with("circles") && n.contains("certified"));
     assert_eq!(newton["cells_per_pair"].as_f64(), Some(0.0), "{newton}");
     assert_eq!(newton["overlap_fraction"].as_f64(), Some(ff), "{newton}");
 }
@@ -1021,7 +1048,7 @@ fn bench_csv_has_a_header_and_one_row_per_case() {
         Some("cells_per_pair,name,ns_per_pair,overlap_fraction,pairs")
     );
     let rows: Vec<&str> = lines.collect();
-    assert_eq!(rows.len(), 9, "{text}");
+    assert_eq!(rows.len(), 11, "{text}");
     // The floor's name holds a comma, so it is quoted; every row has the header's five fields.
     let floor = rows
         .iter()

@@ -10,6 +10,7 @@ mod disk_disk;
 pub mod manifold;
 mod push;
 mod ray;
+mod regions;
 mod spikes;
 mod superellipse_superellipse;
 mod superellipse_wall;
@@ -17,6 +18,7 @@ mod superellipse_wall;
 pub use certified::WarmStart;
 pub use disk_disk::{disk_disk, disk_disk_certified};
 pub use ray::{ray_to_boundary, ray_to_convex_boundary};
+pub use regions::{COVER_DEPTH, overlap_regions};
 pub use superellipse_superellipse::{
     contact, contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints,
     contact_with_cells,

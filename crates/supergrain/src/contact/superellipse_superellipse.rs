@@ -209,7 +209,7 @@ fn cells_and_contact<S: CellSink + ?Sized>(
 /// intersection of their boxes, or `None` when the bounding circles or boxes are apart.
 // Inlined: the two placed shapes are then built where the caller keeps them, not copied out.
 #[inline(always)]
-fn frame(
+pub(super) fn frame(
     a: &Superellipse,
     pose_a: &Pose,
     b: &Superellipse,
@@ -291,13 +291,13 @@ fn quadtree<S: CellSink + ?Sized>(
 /// A few ulps of the world coordinates a point of the pair's `region` (in A's frame) is
 /// reported in: a point proven inside both over a box this wide about it stays inside when
 /// moved to the world ([`spike_witness`]).
-fn world_slack(pose_a: &Pose, region: &Aabb) -> f64 {
+pub(super) fn world_slack(pose_a: &Pose, region: &Aabb) -> f64 {
     let scale = pose_a.center().norm() + region.min.norm().max(region.max.norm());
     8.0 * f64::EPSILON * scale
 }
 
 /// The deeper of two candidates for a deepest point (the smaller bound of the other's `f`).
-fn deeper(a: Option<Deepest>, b: Option<Deepest>) -> Option<Deepest> {
+pub(super) fn deeper(a: Option<Deepest>, b: Option<Deepest>) -> Option<Deepest> {
     match (a, b) {
         (Some(a), Some(b)) => Some(if b.other_value < a.other_value { b } else { a }),
         (a, b) => a.or(b),
@@ -314,7 +314,12 @@ fn deeper(a: Option<Deepest>, b: Option<Deepest>) -> Option<Deepest> {
 /// it stays inside in world coordinates (a point moved to a star's spike tip, `1e-9` short
 /// of it, came out `3e-9` outside after rounding to world coordinates, as for the half-axis
 /// witnesses).
-fn polish(own: &PlacedSuperellipse, other: &PlacedSuperellipse, point: Vec2, slack: f64) -> Vec2 {
+pub(super) fn polish(
+    own: &PlacedSuperellipse,
+    other: &PlacedSuperellipse,
+    point: Vec2,
+    slack: f64,
+) -> Vec2 {
     if own.enclose_point(other.pose().center()).lo <= 0.0 {
         // `own` may hold `other`'s centre, which is then the deepest point: not on the boundary.
         return point;

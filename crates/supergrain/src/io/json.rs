@@ -1,6 +1,6 @@
 use serde::{Deserialize, Serialize};
 
-use crate::contact::Contact;
+use crate::contact::{Contact, Penetration};
 use crate::geometry::Vec2;
 use crate::shape::{Pose, ShapeError, Superellipse};
 use crate::subdivision::{Precision, PrecisionError};
@@ -133,8 +133,8 @@ impl ContactQuery {
 }
 
 /// The answer to a [`ContactQuery`]:
-/// `{"overlap", "a_deepest", "b_deepest", "a_push", "b_push", "cells"}`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// `{"overlap", "a_deepest", "b_deepest", "a_push", "b_push", "cells", "contacts"}`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactAnswer {
     pub overlap: bool,
     pub a_deepest: Option<[f64; 2]>,
@@ -142,9 +142,34 @@ pub struct ContactAnswer {
     pub a_push: Option<[f64; 2]>,
     pub b_push: Option<[f64; 2]>,
     pub cells: u32,
+    /// Every overlap region, the one above first ([`crate::contact::overlap_regions`]); empty
+    /// when apart.
+    #[serde(default)]
+    pub contacts: Vec<RegionAnswer>,
+}
+
+/// One overlap region of a [`ContactAnswer`]: its deepest points and pushes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RegionAnswer {
+    pub a_deepest: [f64; 2],
+    pub b_deepest: [f64; 2],
+    pub a_push: [f64; 2],
+    pub b_push: [f64; 2],
+}
+
+impl From<&Penetration> for RegionAnswer {
+    fn from(p: &Penetration) -> Self {
+        RegionAnswer {
+            a_deepest: p.a_deepest.to_array(),
+            b_deepest: p.b_deepest.to_array(),
+            a_push: p.a_push.to_array(),
+            b_push: p.b_push.to_array(),
+        }
+    }
 }
 
 impl From<&Contact> for ContactAnswer {
+    /// The answer with its one region (see [`ContactAnswer::with_regions`] for all of them).
     fn from(c: &Contact) -> Self {
         let p = c.penetration;
         ContactAnswer {
@@ -154,6 +179,15 @@ impl From<&Contact> for ContactAnswer {
             a_push: p.map(|p| p.a_push.to_array()),
             b_push: p.map(|p| p.b_push.to_array()),
             cells: c.cells,
+            contacts: p.iter().map(RegionAnswer::from).collect(),
         }
+    }
+}
+
+impl ContactAnswer {
+    /// The answer listing `regions` (the first being the contact's own).
+    pub fn with_regions(mut self, regions: &[Penetration]) -> Self {
+        self.contacts = regions.iter().map(RegionAnswer::from).collect();
+        self
     }
 }

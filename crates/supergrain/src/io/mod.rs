@@ -16,7 +16,7 @@ pub use frames::{
     write_trajectory_frame, write_vtk_frame,
 };
 pub use images::{GifWriter, to_rgba_image, write_png};
-pub use json::{ContactAnswer, ContactQuery, QueryError, ShapeJson};
+pub use json::{ContactAnswer, ContactQuery, QueryError, RegionAnswer, ShapeJson};
 pub use target::{Destination, destination, remove_stale_temps, temp_beside};
 
 /// Writes `bytes` to `path` so the target is either its old self or the whole new file, never
