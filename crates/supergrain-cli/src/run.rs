@@ -24,7 +24,8 @@ use crate::picture::{PictureArgs, save_frame, save_png};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum NarrowPhaseArg {
-    /// Certified, any superellipse: Newton with a proof for convex pairs, else the quadtree.
+    /// Certified, any superellipse: Newton with a proof for convex pairs, a search of one
+    /// shape's boundary for stars, the quadtree where neither proves anything.
     Interval,
     /// The paper's certified quadtree alone, for every pair.
     Quadtree,

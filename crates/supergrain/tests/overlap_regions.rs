@@ -215,21 +215,17 @@ fn a_star_touching_a_disk_with_two_spikes_has_two_regions() {
         let found = regions(&a, &b);
         assert_eq!(found.len(), 2, "{found:?}");
         check_distinct(&a, &b, &found, &s);
-        // The star's points of each region are near its tips, (1, 0) and (0, 1).
+        // Each region's point of A is near one of the tips, (1, 0) and (0, 1) (the disk's
+        // crosses the spike's axis 0.065 inside the tip): the regions
+        // are told apart by it (the tips are equally deep, so the pair's own answer may find
+        // A's deepest point at one and B's at the other).
         let mut tips: Vec<[f64; 2]> = found
             .iter()
-            .map(|p| {
-                let q = if a.e[0] < 1.0 {
-                    p.a_deepest
-                } else {
-                    p.b_deepest
-                };
-                [q.x, q.y]
-            })
+            .map(|p| [p.a_deepest.x, p.a_deepest.y])
             .collect();
         tips.sort_by(|x, y| x[0].total_cmp(&y[0]));
-        assert!(dist(tips[0], [0.0, 1.0]) < 0.06, "{tips:?}");
-        assert!(dist(tips[1], [1.0, 0.0]) < 0.06, "{tips:?}");
+        assert!(dist(tips[0], [0.0, 1.0]) < 0.08, "{tips:?}");
+        assert!(dist(tips[1], [1.0, 0.0]) < 0.08, "{tips:?}");
     }
 }
 

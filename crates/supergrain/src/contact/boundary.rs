@@ -35,10 +35,16 @@ use crate::geometry::{Aabb, Vec2};
 use crate::interval::{
     Exponent, ImplicitShape, Interval, PlacedSuperellipse, down, pow_down, pow_up, up,
 };
-use crate::shape::Pose;
+use crate::shape::{Pose, Superellipse};
 
 /// A relative pad over the rounding of `1 / e` and of the halves' ends (module docs).
 const PAD: f64 = 1e-12;
+/// A relative pad over the rounding of the tangent's exponents (`e_p - 1`, `1/e_q - 1`) and
+/// of `e_p / e_q`: relative errors of 1e-15 at most, moved to the powers by `|ln x|` of 745 at
+/// most.
+const SLOPE_PAD: f64 = 1e-9;
+/// The smallest exponent of `other` for which the mean-value bounds are tried.
+const SLOPE_MIN_EXPONENT: f64 = 0.5;
 /// Splits before giving up: a near-touching pair takes a few dozen.
 const MAX_SPLITS: usize = 400;
 /// Arcs kept at once before giving up.
@@ -60,6 +66,10 @@ struct Half {
     e_p_float: f64,
     /// `1 / e_q`, rounded.
     inv_q: f64,
+    /// For the arc's tangent: `e_p - 1`, `1 / e_q - 1`, and `e_p / e_q` enclosed.
+    e_p_less_1: Exponent,
+    inv_q_less_1: Exponent,
+    ratio: Interval,
     lo: f64,
     hi: f64,
 }
@@ -97,6 +107,93 @@ impl Half {
     }
 }
 
+/// `e_p / e_q` from `e_p` and the rounded `1 / e_q`, enclosed.
+fn ratio(e_p: f64, inv_q: f64) -> Interval {
+    let r = e_p * inv_q;
+    Interval::new(down(r) * (1.0 - SLOPE_PAD), up(r) * (1.0 + SLOPE_PAD))
+}
+
+impl Half {
+    /// An enclosure of the derivative of the boundary point along the parameter, in the
+    /// half's `(p, q)` order, over `[p0, p1]`: `(s_p, -s_q (e_p / e_q) p^(e_p - 1)
+    /// w^(1/e_q - 1))` with `w = 1 - p^e_p`. Each factor is monotone in `p`, so it is enclosed
+    /// by its ends; the halves keep it bounded (`p` away from 0 where `e_p < 1`, `w >= 1/2`
+    /// where `e_q > 1`), and `None` says it is not (a rounding at an end).
+    fn tangent(&self, p0: f64, p1: f64) -> Option<(f64, Interval)> {
+        let e_p = self.e_p_float;
+        let pad_lo = |x: f64| down(x * (1.0 - SLOPE_PAD));
+        let pad_hi = |x: f64| up(x * (1.0 + SLOPE_PAD));
+        let m = self.e_p_less_1;
+        let pp = if e_p >= 1.0 {
+            Interval::new(pad_lo(m.pow_down(p0)), pad_hi(m.pow_up(p1)))
+        } else if p0 > 0.0 {
+            Interval::new(pad_lo(m.pow_down(p1)), pad_hi(m.pow_up(p0)))
+        } else {
+            return None;
+        };
+        let w_lo = down(1.0 - self.e_p.pow_up(p1)).max(0.0);
+        let w_hi = up(1.0 - self.e_p.pow_down(p0)).min(1.0);
+        let k = self.inv_q - 1.0;
+        let k_exp = self.inv_q_less_1;
+        let ww = if k == 0.0 {
+            Interval::point(1.0)
+        } else if k > 0.0 {
+            Interval::new(pad_lo(k_exp.pow_down(w_lo)), pad_hi(k_exp.pow_up(w_hi)))
+        } else if w_lo > 0.0 {
+            Interval::new(pad_lo(k_exp.pow_down(w_hi)), pad_hi(k_exp.pow_up(w_lo)))
+        } else {
+            return None;
+        };
+        let dq = pp.times(ww).times(self.ratio).scale(-self.s_q);
+        let finite = dq.lo.is_finite() && dq.hi.is_finite();
+        finite.then_some((self.s_p, dq))
+    }
+}
+
+/// A lower bound of `f_other` along an arc by the mean-value theorem in its parameter:
+/// `f(p) >= f(p0) + min(0, D) (p1 - p0)` and `f(p) >= f(p1) - max(0, D) (p1 - p0)`, `D` an
+/// enclosure of `d f(gamma(p)) / dp` over the arc (the gradient of `f_other` over the arc's box
+/// dotted with the tangent's enclosure). Near the minimum `D` is small, so the bound is
+/// second order in the arc's length where the box's is first: the arcs by the minimum need not
+/// be split down to a cell, and along a flat face pressed on another (a derivative near 0 all
+/// along) the whole face is bounded at once. `f0`, `f1`: lower bounds at the ends. `None`
+/// where the gradient or the tangent is unbounded (a star's axis crossing the box).
+fn slope_bound(
+    half: &Half,
+    other: &PlacedSuperellipse,
+    (p0, p1): (f64, f64),
+    hull: &Aabb,
+    (f0, f1): (f64, f64),
+) -> Option<f64> {
+    let g = other.gradient_enclosure(hull)?;
+    let (dp, dq) = half.tangent(p0, p1)?;
+    let (gp, gq) = if half.by_y {
+        (g[1], g[0])
+    } else {
+        (g[0], g[1])
+    };
+    let d = gp.scale(dp).plus(gq.times(dq));
+    if !(d.lo.is_finite() && d.hi.is_finite()) {
+        return None;
+    }
+    let h = up(p1 - p0);
+    let from_start = down(f0 + down(d.lo.min(0.0) * h));
+    let from_end = down(f1 - up(d.hi.max(0.0) * h));
+    Some(from_start.max(from_end))
+}
+
+/// The larger of the box bound `lower` and [`slope_bound`].
+fn tighter(
+    half: &Half,
+    other: &PlacedSuperellipse,
+    ends: (f64, f64),
+    hull: &Aabb,
+    values: (f64, f64),
+    lower: f64,
+) -> f64 {
+    slope_bound(half, other, ends, hull, values).map_or(lower, |b| b.max(lower))
+}
+
 /// The halves of a quadrant of `own` (axis-aligned at the origin), `sx`, `sy` signed.
 fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
     let (xm, ym) = (0.5f64.powf(1.0 / ex), 0.5f64.powf(1.0 / ey));
@@ -107,6 +204,9 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
         e_p: Exponent::new(ex),
         e_p_float: ex,
         inv_q: 1.0 / ey,
+        e_p_less_1: Exponent::new(ex - 1.0),
+        inv_q_less_1: Exponent::new(1.0 / ey - 1.0),
+        ratio: ratio(ex, 1.0 / ey),
         lo,
         hi,
     };
@@ -117,6 +217,9 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
         e_p: Exponent::new(ey),
         e_p_float: ey,
         inv_q: 1.0 / ex,
+        e_p_less_1: Exponent::new(ey - 1.0),
+        inv_q_less_1: Exponent::new(1.0 / ex - 1.0),
+        ratio: ratio(ey, 1.0 / ex),
         lo,
         hi,
     };
@@ -144,6 +247,9 @@ struct Arc {
     p1: f64,
     b0: Aabb,
     b1: Aabb,
+    /// Lower bounds of `f_other` at the ends (over their boxes).
+    f0: f64,
+    f1: f64,
     lower: f64,
 }
 
@@ -193,6 +299,16 @@ pub(crate) fn deepest_on_boundary(
         }
     }
     let touch = touch_level(other.shape(), cell);
+    // The mean-value bounds ([`slope_bound`]) need `other`'s gradient bounded over an arc's
+    // box; a star's is unbounded at its axes, where its contacts are, and the bound then costs
+    // powers for nothing. Measured in instructions a near-touching pair (callgrind): the mixed
+    // class (exponents in [0.5, 4]) 88k without the bounds, 76k with them against convex
+    // shapes only, 69k also against stars of exponents from 1/2 when `own` is convex; the stars
+    // class (both stars, [0.25, 0.9]) 67k without, 77k with them whenever `other`'s exponents
+    // are from 1/2, 68k as here.
+    let least = |s: &Superellipse| s.exponents().into_iter().fold(f64::INFINITY, f64::min);
+    let slopes = least(other.shape()) >= 1.0
+        || (least(other.shape()) >= SLOPE_MIN_EXPONENT && least(own) >= 1.0);
     let [ex, ey] = own.exponents();
     let s = own.semi_axes();
     let mut table = [halves(ex, ey, s.x, s.y)[0]; 8];
@@ -213,14 +329,30 @@ pub(crate) fn deepest_on_boundary(
             let index = 2 * k + m;
             table[index] = half;
             let (b0, b1) = (half.enclose(half.lo), half.enclose(half.hi));
-            let lower = other.lower_bound(&b0.union(&b1));
+            let hull = b0.union(&b1);
+            let lower = other.lower_bound(&hull);
             if lower < 0.0 {
+                let (f0, f1) = if slopes {
+                    (other.lower_bound(&b0), other.lower_bound(&b1))
+                } else {
+                    (f64::NEG_INFINITY, f64::NEG_INFINITY)
+                };
+                let lower = if slopes {
+                    tighter(&half, other, (half.lo, half.hi), &hull, (f0, f1), lower)
+                } else {
+                    lower
+                };
+                if lower >= 0.0 {
+                    continue;
+                }
                 arcs.push(Arc {
                     half: index as u8,
                     p0: half.lo,
                     p1: half.hi,
                     b0,
                     b1,
+                    f0,
+                    f1,
                     lower,
                 });
             }
@@ -277,11 +409,29 @@ pub(crate) fn deepest_on_boundary(
                 }
             }
         }
-        for (p0, p1, b0, b1) in [(arc.p0, mid, arc.b0, bm), (mid, arc.p1, bm, arc.b1)] {
-            let lower = other.lower_bound(&b0.union(&b1));
+        let fm = if slopes {
+            other.lower_bound(&bm)
+        } else {
+            f64::NEG_INFINITY
+        };
+        for (p0, p1, b0, b1, f0, f1) in [
+            (arc.p0, mid, arc.b0, bm, arc.f0, fm),
+            (mid, arc.p1, bm, arc.b1, fm, arc.f1),
+        ] {
+            let hull = b0.union(&b1);
+            let lower = other.lower_bound(&hull);
             // An arc outside `other` (`f >= 0`) holds no deeper point than any witness (`f < 0`)
             // and nothing within `touch` of its inside.
             if lower < 0.0 {
+                // Only an arc that would stay open needs the finer bound.
+                let lower = match best {
+                    Some(w) if lower >= w.value - w.tau => lower,
+                    _ if slopes => tighter(&half, other, (p0, p1), &hull, (f0, f1), lower),
+                    _ => lower,
+                };
+                if lower >= 0.0 {
+                    continue;
+                }
                 if arcs.len() == MAX_ARCS {
                     return None;
                 }
@@ -291,10 +441,186 @@ pub(crate) fn deepest_on_boundary(
                     p1,
                     b0,
                     b1,
+                    f0,
+                    f1,
                     lower,
                 });
             }
         }
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    //! The mean-value bound's parts against plain formulas written again: finite differences
+    //! of the boundary's parametrisation and of `f`, and `f` sampled densely along the arc.
+    use super::*;
+    use crate::shape::Superellipse;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn exponent(rng: &mut ChaCha8Rng) -> f64 {
+        match rng.random_range(0..4) {
+            0 => 1.0,
+            1 => 2.0,
+            2 => rng.random_range(0.25..1.0),
+            _ => rng.random_range(1.0..8.0),
+        }
+    }
+
+    /// The boundary point of a half at `p`, `(s_p p, s_q (1 - p^e_p)^(1/e_q))` in (x, y).
+    fn plain_point(h: &Half, e_q: f64, p: f64) -> [f64; 2] {
+        let q = (1.0 - p.powf(h.e_p_float)).max(0.0).powf(1.0 / e_q);
+        let (a, b) = (h.s_p * p, h.s_q * q);
+        if h.by_y { [b, a] } else { [a, b] }
+    }
+
+    /// `f` of a placed superellipse, written again.
+    fn plain_f(s: &Superellipse, pose: &Pose, x: [f64; 2]) -> f64 {
+        let (c, t) = (pose.center(), pose.angle());
+        let (dx, dy) = (x[0] - c.x, x[1] - c.y);
+        let u = t.cos() * dx + t.sin() * dy;
+        let v = -t.sin() * dx + t.cos() * dy;
+        let [sx, sy] = [s.semi_axes().x, s.semi_axes().y];
+        let [ex, ey] = s.exponents();
+        (u / sx).abs().powf(ex) + (v / sy).abs().powf(ey) - 1.0
+    }
+
+    fn random_arc(rng: &mut ChaCha8Rng) -> (Half, f64, f64, f64) {
+        let (ex, ey) = (exponent(rng), exponent(rng));
+        let (sx, sy) = (rng.random_range(0.2..1.0), rng.random_range(0.2..1.0));
+        let (kx, ky) = (
+            if rng.random_bool(0.5) { 1.0 } else { -1.0 },
+            if rng.random_bool(0.5) { 1.0 } else { -1.0 },
+        );
+        let h = halves(ex, ey, kx * sx, ky * sy)[rng.random_range(0..2)];
+        let e_q = if h.by_y { ex } else { ey };
+        let (a, b) = (rng.random_range(h.lo..h.hi), rng.random_range(h.lo..h.hi));
+        (h, e_q, a.min(b), a.max(b))
+    }
+
+    #[test]
+    fn the_tangent_encloses_finite_differences() {
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut checked = 0;
+        while checked < 2000 {
+            let (h, e_q, p0, p1) = random_arc(&mut rng);
+            let Some((dp, dq)) = h.tangent(p0, p1) else {
+                continue;
+            };
+            assert_eq!(dp, h.s_p);
+            let p = rng.random_range(p0..=p1);
+            let d = 1e-7 * (p1 - p0).max(1e-6);
+            if p - d < p0 || p + d > p1 {
+                continue;
+            }
+            let (a, b) = (plain_point(&h, e_q, p - d), plain_point(&h, e_q, p + d));
+            let q_axis = usize::from(!h.by_y);
+            let fd = (b[q_axis] - a[q_axis]) / (2.0 * d);
+            let slack = 1e-5 * (1.0 + fd.abs());
+            assert!(
+                dq.lo - slack <= fd && fd <= dq.hi + slack,
+                "d q/d p = {fd} outside {dq:?} at p = {p} in [{p0}, {p1}]"
+            );
+            checked += 1;
+        }
+    }
+
+    #[test]
+    fn the_gradient_encloses_finite_differences() {
+        let mut rng = ChaCha8Rng::seed_from_u64(4);
+        let mut checked = 0;
+        while checked < 2000 {
+            let s = Superellipse::new(
+                [rng.random_range(0.2..1.0), rng.random_range(0.2..1.0)],
+                [exponent(&mut rng), exponent(&mut rng)],
+            )
+            .unwrap();
+            let angle = if rng.random_bool(0.3) {
+                0.0
+            } else {
+                rng.random_range(0.0..6.3)
+            };
+            let pose = Pose::new(
+                Vec2::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)),
+                angle,
+            )
+            .unwrap();
+            let placed = PlacedSuperellipse::new(s, pose);
+            let lo = Vec2::new(rng.random_range(-1.5..1.5), rng.random_range(-1.5..1.5));
+            let size = rng.random_range(1e-4..0.3);
+            let cell = Aabb::new(lo, lo + Vec2::new(size, size));
+            let Some(g) = placed.gradient_enclosure(&cell) else {
+                continue;
+            };
+            let x = [
+                rng.random_range(lo.x..lo.x + size),
+                rng.random_range(lo.y..lo.y + size),
+            ];
+            let d = 1e-7;
+            for axis in 0..2 {
+                let (mut a, mut b) = (x, x);
+                a[axis] -= d;
+                b[axis] += d;
+                let fd = (plain_f(&s, &pose, b) - plain_f(&s, &pose, a)) / (2.0 * d);
+                let slack = 1e-4 * (1.0 + fd.abs());
+                assert!(
+                    g[axis].lo - slack <= fd && fd <= g[axis].hi + slack,
+                    "df/dx{axis} = {fd} outside {:?} at {x:?}",
+                    g[axis]
+                );
+            }
+            checked += 1;
+        }
+    }
+
+    /// The bound is below `f_other` all along the arc, sampled at 2,000 points.
+    #[test]
+    fn the_slope_bound_is_below_every_sample_of_the_arc() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let (mut checked, mut tighter_than_box) = (0, 0);
+        while checked < 1000 {
+            let (h, e_q, p0, p1) = random_arc(&mut rng);
+            let other = Superellipse::new(
+                [rng.random_range(0.2..1.0), rng.random_range(0.2..1.0)],
+                [exponent(&mut rng).max(0.5), exponent(&mut rng).max(0.5)],
+            )
+            .unwrap();
+            let mid = plain_point(&h, e_q, 0.5 * (p0 + p1));
+            let pose = Pose::new(
+                Vec2::new(
+                    mid[0] + rng.random_range(-0.8..0.8),
+                    mid[1] + rng.random_range(-0.8..0.8),
+                ),
+                rng.random_range(0.0..6.3),
+            )
+            .unwrap();
+            let placed = PlacedSuperellipse::new(other, pose);
+            let (b0, b1) = (h.enclose(p0), h.enclose(p1));
+            let hull = b0.union(&b1);
+            let values = (placed.lower_bound(&b0), placed.lower_bound(&b1));
+            let Some(bound) = slope_bound(&h, &placed, (p0, p1), &hull, values) else {
+                continue;
+            };
+            let least = (0..=2000)
+                .map(|k| {
+                    let p = p0 + (p1 - p0) * f64::from(k) / 2000.0;
+                    plain_f(&other, &pose, plain_point(&h, e_q, p))
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                bound <= least + 1e-9 * (1.0 + least.abs()),
+                "bound {bound} above the sampled minimum {least} on [{p0}, {p1}]"
+            );
+            if bound > placed.lower_bound(&hull) {
+                tighter_than_box += 1;
+            }
+            checked += 1;
+        }
+        assert!(
+            tighter_than_box > 100,
+            "the bound helped {tighter_than_box} times"
+        );
+    }
 }

@@ -119,6 +119,19 @@ struct Aligned {
 }
 
 impl Affine {
+    /// The exact map's partial derivatives, enclosed: each coefficient is within half an ulp of
+    /// its exact value (the rotation's rounded `cos` and `sin` over the exact semi-axis).
+    fn gradient(&self) -> (Interval, Interval) {
+        let around = |x: f64| Interval::new(down(x), up(x));
+        match self.aligned {
+            Some(Aligned { axis: 0, inv_s, .. }) => (around(inv_s), Interval::point(0.0)),
+            Some(Aligned { inv_s, .. }) => (Interval::point(0.0), around(inv_s)),
+            None => (around(self.a), around(self.b)),
+        }
+    }
+}
+
+impl Affine {
     /// A rigorous enclosure of the exact map over the box. Each coefficient is within half an
     /// ulp of its exact value, each product and sum rounds by half an ulp, and every term is at
     /// most `M = |a| max|x| + |b| max|y| + |k|`; so the rounded result is within `4 eps M` of the
@@ -245,6 +258,78 @@ impl PlacedSuperellipse {
 
     pub fn pose(&self) -> &Pose {
         &self.pose
+    }
+
+    /// An enclosure of `grad f` over the box, `None` where it is unbounded (a star's axis,
+    /// where `|u|^e` with `e < 1` has an infinite slope, crosses the box). For an exponent of
+    /// 1, where `|u|` has a kink at the axis, the slope there is enclosed by `[-1, 1]` (its
+    /// generalised gradient), which is what the mean-value bounds built on it need.
+    pub(crate) fn gradient_enclosure(&self, cell: &Aabb) -> Option<[Interval; 2]> {
+        let exponents = self.shape.exponents();
+        let t = [self.maps[0].enclose(cell), self.maps[1].enclose(cell)];
+        // Unbounded before any power is spent: a star's axis in the box.
+        let unbounded = |e: f64, t: Interval| e < 1.0 && t.lo <= 1e-300 && t.hi >= -1e-300;
+        if unbounded(exponents[0], t[0]) || unbounded(exponents[1], t[1]) {
+            return None;
+        }
+        let mut g = [Interval::point(0.0); 2];
+        for (axis, map) in self.maps.iter().enumerate() {
+            let e = exponents[axis];
+            // d/du |u|^e = e sgn(u) |u|^(e - 1).
+            let slope = signed_pow(t[axis], e)?.scale(e);
+            let (du_dx, du_dy) = map.gradient();
+            g[0] = g[0].plus(slope.times(du_dx));
+            g[1] = g[1].plus(slope.times(du_dy));
+        }
+        Some(g)
+    }
+}
+
+/// An enclosure of `sgn(t) |t|^(e - 1)` over `t` (`e > 0`), `None` where it is unbounded.
+fn signed_pow(t: Interval, e: f64) -> Option<Interval> {
+    if e == 1.0 {
+        return Some(if t.lo > 0.0 {
+            Interval::point(1.0)
+        } else if t.hi < 0.0 {
+            Interval::point(-1.0)
+        } else {
+            Interval::new(-1.0, 1.0)
+        });
+    }
+    // `e - 1` is exact for `e >= 1/2` (Sterbenz) and for `e >= 1` (a multiple of e's ulp
+    // below it); below 1/2 its rounding moves `|t|^(e-1)` by a relative 1e-15 at most over
+    // the `|t| >= 1e-300` the caller passes, which the pad covers.
+    let k = Exponent::new(e - 1.0);
+    let pad = if e < 0.5 { 1e-12 } else { 0.0 };
+    let up_pad = |x: f64| up(x * (1.0 + pad));
+    let down_pad = |x: f64| down(x * (1.0 - pad));
+    if e > 1.0 {
+        // Increasing in t, 0 at 0.
+        let lo = if t.lo >= 0.0 {
+            down_pad(k.pow_down(t.lo))
+        } else {
+            -up_pad(k.pow_up(-t.lo))
+        };
+        let hi = if t.hi >= 0.0 {
+            up_pad(k.pow_up(t.hi))
+        } else {
+            -down_pad(k.pow_down(-t.hi))
+        };
+        return Some(Interval::new(lo, hi));
+    }
+    // 0 < e < 1: |t|^(e-1) decreases in |t| and is unbounded at 0.
+    if t.lo > 1e-300 {
+        Some(Interval::new(
+            down_pad(k.pow_down(t.hi)),
+            up_pad(k.pow_up(t.lo)),
+        ))
+    } else if t.hi < -1e-300 {
+        Some(Interval::new(
+            -up_pad(k.pow_up(-t.hi)),
+            -down_pad(k.pow_down(-t.lo)),
+        ))
+    } else {
+        None
     }
 }
 

@@ -75,6 +75,20 @@ impl Interval {
         Interval::new(down(a), up(b))
     }
 
+    /// `self * o`, rounded outward (finite ends).
+    #[inline]
+    pub fn times(self, o: Interval) -> Interval {
+        let p = [
+            self.lo * o.lo,
+            self.lo * o.hi,
+            self.hi * o.lo,
+            self.hi * o.hi,
+        ];
+        let lo = p[0].min(p[1]).min(p[2]).min(p[3]);
+        let hi = p[0].max(p[1]).max(p[2]).max(p[3]);
+        Interval::new(down(lo), up(hi))
+    }
+
     /// `self / k` for an exact constant `k > 0`, rounded outward.
     #[inline]
     pub fn div_positive(self, k: f64) -> Interval {
