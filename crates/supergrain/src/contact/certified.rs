@@ -30,7 +30,7 @@ use super::boundary::deepest_on_boundary;
 use super::ray::push_out;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
-use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow, support};
+use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow, support, support_dual};
 
 /// A relative pad over the rounding of the certificate's formulas (module docs).
 const PAD: f64 = 1e-12;
@@ -243,9 +243,10 @@ fn root(x: f64, e: f64) -> f64 {
 
 /// A shape against a wall by the certified path: the point of the shape deepest in the wall is
 /// its support point in the direction into the wall, in closed form (Hölder) for a convex shape
-/// with equal exponents. Kept only when proven inside the shape and the wall, and deepest up to
-/// half a final cell by the support function's upper bound; proven apart by the same bound.
-/// `None`: no proof (or another shape), the caller runs the quadtree.
+/// with equal exponents, the dual bound's maximiser ([`support_dual`]) for unequal ones. Kept
+/// only when proven inside the shape and the wall, and deepest up to half a final cell by the
+/// support function's upper bound; proven apart by the same bound. `None`: no proof (or a
+/// star), the caller runs the quadtree.
 pub(crate) fn certified_wall(
     placed: &PlacedSuperellipse,
     wall: &HalfPlane,
@@ -253,7 +254,7 @@ pub(crate) fn certified_wall(
 ) -> Option<Option<Vec2>> {
     let (shape, pose) = (placed.shape(), placed.pose());
     let [e, ey] = shape.exponents();
-    if e != ey || e <= 1.0 {
+    if e <= 1.0 || ey <= 1.0 {
         return None;
     }
     let n = wall.normal();
@@ -262,7 +263,7 @@ pub(crate) fn certified_wall(
     // Into the wall, in the shape's frame.
     let m = pose.rotation().apply_inverse(-n);
     let s = shape.semi_axes();
-    let h_up = support_up(s, [e, e], m)? + PAD * (s.x + s.y);
+    let h_up = support_up(s, [e, ey], m)? + PAD * (s.x + s.y);
     let (tx, ty) = (n.x * c.x, n.y * c.y);
     // A lower bound of min g = n . c - d - h(-n) over the shape.
     let min_lo = tx + ty - d - h_up - PAD * (tx.abs() + ty.abs() + d.abs() + h_up);
@@ -272,7 +273,12 @@ pub(crate) fn certified_wall(
     if min_lo > -0.5 * cell {
         return Some(None);
     }
-    let local = support_point(shape, m)? * (1.0 - 1e-9);
+    let local = if e == ey {
+        support_point(shape, m)?
+    } else {
+        // The dual bound's maximiser: on the boundary up to its Newton solve's precision.
+        support_dual(s, [e, ey], m)?.1
+    } * (1.0 - 1e-9);
     let x = pose.to_world(local);
     // (A NaN bound proves nothing either.)
     let hi = placed.enclose_point(x).hi;
@@ -505,14 +511,24 @@ fn solve3(j: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
 }
 
 /// An upper bound of the support function, about its centre, of the superellipse with these
-/// semi-axes and exponents, in the local direction `d` (see [`Superellipse::local_support`]).
+/// semi-axes and exponents, in the local direction `d`: [`Superellipse::local_support`] for
+/// equal exponents (exact), the dual bound [`support_dual`] for unequal ones, where the larger
+/// exponent's support is too loose for any certificate (measured on the mixed class of `bench
+/// contact`, the first deepest point of 512 of its 539 convex pairs is certified with the dual
+/// bound, of 177 with the larger exponent's; 3.5 us a convex pair instead of 10.9).
 fn support_up(semi_axes: Vec2, exponents: [f64; 2], d: Vec2) -> Option<f64> {
     // Grown axes may overflow: no bound then. (Exponents come from valid shapes.)
     let valid = |s: f64| s > 0.0 && s.is_finite();
     if !(valid(semi_axes.x) && valid(semi_axes.y)) {
         return None;
     }
-    Some(up(support(semi_axes, exponents, d) * (1.0 + PAD)))
+    let h = if exponents[0] == exponents[1] {
+        support(semi_axes, exponents, d)
+    } else {
+        // Unequal exponents: the dual bound, tight where `support`'s larger exponent is not.
+        support_dual(semi_axes, exponents, d)?.0
+    };
+    Some(up(h * (1.0 + PAD)))
 }
 
 /// A half-plane `n . y <= bound` that holds `own` (in its frame), with `n = grad f_own(x)`.
@@ -697,14 +713,21 @@ mod tests {
     }
 
     /// Newton's point, when certified, is the sampled minimum of `f_other` over `own` up to
-    /// the tolerance; and convex pairs are certified nearly always.
+    /// the tolerance; and convex pairs are certified nearly always, with equal exponents and
+    /// with unequal ones (whose certificate needs the dual support bound: with the larger
+    /// exponent's support, 70% of these were; now 98%).
     #[test]
     fn certified_deepest_points_match_the_sampled_minimum() {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
         let (mut certified, mut overlaps, mut total) = (0, 0, 0);
-        for case in 0..400 {
-            let own = random_shape_with(&mut rng, true, true);
-            let other = random_shape_with(&mut rng, true, true);
+        let (mut unequal, mut unequal_certified) = (0, 0);
+        for case in 0..800 {
+            let same = case % 2 == 0;
+            let own = random_shape_with(&mut rng, true, same);
+            let other = random_shape_with(&mut rng, true, same);
+            let uneven = |s: &Superellipse| s.exponents()[0] != s.exponents()[1];
+            let counted = uneven(&own) || uneven(&other);
+            unequal += usize::from(counted);
             let dir: f64 = rng.random_range(0.0..std::f64::consts::TAU);
             let dist = rng.random_range(0.2..0.9) * (own.min_semi_axis() + other.bounding_radius());
             let rel = Pose::new(
@@ -720,6 +743,7 @@ mod tests {
                 continue;
             };
             certified += 1;
+            unequal_certified += usize::from(counted);
             let pts = samples(&own, &rel);
             let sampled_min = pts
                 .iter()
@@ -728,13 +752,13 @@ mod tests {
             match answer {
                 Deepest::Beyond => {
                     // No sampled point of own is more than half a cell inside other, measured
-                    // along the ray from other's centre (exponents are equal here).
-                    let e = other.exponents()[0];
+                    // along the ray from other's centre.
                     for &p in &pts {
                         let f = other.value(&rel, p);
                         if f < 0.0 {
                             let q = rel.to_local(p);
-                            let depth = ((f + 1.0).powf(-1.0 / e) - 1.0) * len(q);
+                            let exit = radial_to_boundary(&other, q).unwrap();
+                            let depth = len(exit - q);
                             assert!(
                                 depth <= 0.5 * cell * (1.0 + 1e-6) + 1e-12,
                                 "case {case}: apart, but {p:?} is {depth} deep"
@@ -759,10 +783,15 @@ mod tests {
                 }
             }
         }
-        assert!(overlaps > 100, "{overlaps} overlaps");
+        assert!(overlaps > 200, "{overlaps} overlaps");
         assert!(
             certified * 100 >= total * 95,
             "{certified} of {total} certified"
+        );
+        assert!(unequal > 250);
+        assert!(
+            unequal_certified * 100 >= unequal * 90,
+            "{unequal_certified} of {unequal} with unequal exponents certified"
         );
     }
 
