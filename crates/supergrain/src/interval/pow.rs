@@ -73,6 +73,40 @@ impl Exponent {
     }
 }
 
+impl Exponent {
+    /// `(pow_down(x), pow_up(x))` and the plain `x^e` they were rounded from, with one `powf`
+    /// where two calls would make two: the same bits as [`Self::pow_down`] and
+    /// [`Self::pow_up`], for the boundary search, which wants all three of one parameter.
+    #[inline(always)]
+    pub fn pow_all(self, x: f64) -> (f64, f64, f64) {
+        let Exponent::Other(e) = self else {
+            return (self.pow_down(x), self.pow_up(x), plain(self, x));
+        };
+        let r = x.powf(e);
+        let lo = down(down(r));
+        let lo = if lo.is_nan() {
+            f64::MAX
+        } else {
+            lo.clamp(0.0, f64::MAX)
+        };
+        let hi = if x == 0.0 { 0.0 } else { up(up(r)) };
+        (lo, hi, r)
+    }
+}
+
+/// `x^e` in plain floating point, as `powf` would give it for the exponents with no method of
+/// their own.
+fn plain(e: Exponent, x: f64) -> f64 {
+    match e {
+        Exponent::One => x,
+        Exponent::Two => x.powf(2.0),
+        Exponent::Three => x.powf(3.0),
+        Exponent::Four => x.powf(4.0),
+        Exponent::Half => x.powf(0.5),
+        Exponent::Other(e) => x.powf(e),
+    }
+}
+
 /// A lower bound of `x^e` (`x >= 0`, `e > 0`).
 pub fn pow_down(x: f64, e: f64) -> f64 {
     Exponent::new(e).pow_down(x)
@@ -81,4 +115,25 @@ pub fn pow_down(x: f64, e: f64) -> f64 {
 /// An upper bound of `x^e` (`x >= 0`, `e > 0`).
 pub fn pow_up(x: f64, e: f64) -> f64 {
     Exponent::new(e).pow_up(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One `powf` gives the same bits as the two separate bounds and the plain power, for
+    /// every kind of exponent, at 0, 1, tiny, huge and ordinary bases.
+    #[test]
+    fn pow_all_is_pow_down_pow_up_and_powf() {
+        let bases = [0.0, 1e-300, 1e-9, 0.3, 0.5, 0.999_999, 1.0, 1.7, 1e9, 1e300];
+        for e in [1.0, 2.0, 3.0, 4.0, 0.5, 0.25, 0.7, 1.3, 7.5, 400.0] {
+            let k = Exponent::new(e);
+            for x in bases {
+                let (lo, hi, r) = k.pow_all(x);
+                assert_eq!(lo.to_bits(), k.pow_down(x).to_bits(), "{e} {x}");
+                assert_eq!(hi.to_bits(), k.pow_up(x).to_bits(), "{e} {x}");
+                assert_eq!(r.to_bits(), x.powf(e).to_bits(), "{e} {x}");
+            }
+        }
+    }
 }
