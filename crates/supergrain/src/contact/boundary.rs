@@ -84,9 +84,11 @@ impl Half {
     /// [`Self::enclose`] and [`Self::point`] at once, sharing the power `p^e_p` (bit for bit
     /// the same answers; 2 of the 12 powers of a split saved).
     fn enclose_and_point(&self, p: f64) -> (Aabb, Vec2) {
-        let (pp_lo, pp_hi, pp) = self.e_p.pow_all(p);
-        let pp = (Interval::new(pp_lo, pp_hi), pp);
-        (self.enclose_from(p, pp.0), self.point_from(p, pp.1))
+        let (lo, hi, pp) = self.e_p.pow_all(p);
+        (
+            self.enclose_from(p, Interval::new(lo, hi)),
+            self.point_from(p, pp),
+        )
     }
 
     /// [`Self::enclose`] given `p^e_p` enclosed.

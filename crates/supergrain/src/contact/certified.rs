@@ -263,7 +263,17 @@ pub(crate) fn certified_wall(
     // Into the wall, in the shape's frame.
     let m = pose.rotation().apply_inverse(-n);
     let s = shape.semi_axes();
-    let h_up = support_up(s, [e, ey], m)? + PAD * (s.x + s.y);
+    // Unequal exponents: the dual bound and its maximiser, from one solve.
+    let dual = if e == ey {
+        None
+    } else {
+        Some(support_dual(s, [e, ey], m)?)
+    };
+    let h = match dual {
+        Some((h, _)) => up(h * (1.0 + PAD)),
+        None => support_up(s, [e, e], m)?,
+    };
+    let h_up = h + PAD * (s.x + s.y);
     let (tx, ty) = (n.x * c.x, n.y * c.y);
     // A lower bound of min g = n . c - d - h(-n) over the shape.
     let min_lo = tx + ty - d - h_up - PAD * (tx.abs() + ty.abs() + d.abs() + h_up);
@@ -273,11 +283,10 @@ pub(crate) fn certified_wall(
     if min_lo > -0.5 * cell {
         return Some(None);
     }
-    let local = if e == ey {
-        support_point(shape, m)?
-    } else {
-        // The dual bound's maximiser: on the boundary up to its Newton solve's precision.
-        support_dual(s, [e, ey], m)?.1
+    // The dual bound's maximiser is on the boundary up to its Newton solve's precision.
+    let local = match dual {
+        Some((_, point)) => point,
+        None => support_point(shape, m)?,
     } * (1.0 - 1e-9);
     let x = pose.to_world(local);
     // (A NaN bound proves nothing either.)

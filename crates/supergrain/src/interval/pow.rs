@@ -71,9 +71,7 @@ impl Exponent {
             Exponent::Other(e) => up(up(x.powf(e))),
         }
     }
-}
 
-impl Exponent {
     /// `(pow_down(x), pow_up(x))` and the plain `x^e` they were rounded from, with one `powf`
     /// where two calls would make two: the same bits as [`Self::pow_down`] and
     /// [`Self::pow_up`], for the boundary search, which wants all three of one parameter.
