@@ -304,6 +304,20 @@ fn two_outputs_on_one_path_are_refused_before_any_work() {
 // An output that fails
 // ---------------------------------------------------------------------------------------------
 
+/// Removes a folder the run may be writing into at that moment: a frame written between
+/// `remove_dir_all`'s listing and its last `rmdir` makes it fail with "directory not empty", so
+/// it is tried again until the folder is gone.
+fn remove_while_written(folder: &Path) {
+    for attempt in 0.. {
+        match std::fs::remove_dir_all(folder) {
+            Ok(()) => return,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return,
+            Err(_) if attempt < 100 => std::thread::sleep(Duration::from_millis(5)),
+            Err(e) => panic!("remove {}: {e}", folder.display()),
+        }
+    }
+}
+
 /// The folders of the PNG and of the frames removed while the run goes: the run finishes, the
 /// dump and the trajectory are written, and it exits with an error naming each failed output.
 #[test]
@@ -339,8 +353,8 @@ fn an_output_folder_removed_mid_run_loses_no_other_output() {
     {
         std::thread::sleep(Duration::from_millis(20));
     }
-    std::fs::remove_dir_all(&gone).expect("remove the PNG's folder");
-    std::fs::remove_dir_all(&frames).expect("remove the frames' folder");
+    remove_while_written(&gone);
+    remove_while_written(&frames);
     std::thread::sleep(Duration::from_millis(500));
     signal(&child, libc::SIGINT);
     let o = wait_at_most(child, Duration::from_secs(60)).expect("the run stops after Ctrl-C");
