@@ -181,14 +181,42 @@ struct Tally {
     overlaps: u32,
     /// Overlaps answered by the certified path (no quadtree cell).
     newton: u32,
+    /// Of those, shapes with an exponent up to 1 (stars, diamonds, and shapes convex along one
+    /// axis only).
+    not_convex: u32,
 }
 
+/// Shapes that are not convex: stars and diamonds (both exponents in [0.25, 1]), and shapes
+/// with one exponent up to 1 and the other above (convex along one axis only).
+fn not_convex_shape(rng: &mut Rng) -> Shape {
+    let mut sh = random_shape(rng);
+    let low = rng.range(0.25, 1.0);
+    sh.e = match rng.below(3) {
+        0 => [low, rng.range(0.25, 1.0)],
+        1 => [low, rng.range(1.0, 8.0)],
+        _ => [rng.range(1.0, 8.0), low],
+    };
+    sh
+}
+
+/// The wall within a few final cells of touching the shape (`true`), or anywhere from clear
+/// to a third of its size in.
 fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
+    run_cases(side, seed, cases, random_shape, false)
+}
+
+fn run_cases(
+    side: Side,
+    seed: u64,
+    cases: u32,
+    shapes: fn(&mut Rng) -> Shape,
+    near: bool,
+) -> Tally {
     let mut rng = Rng::new(seed);
     let precision = Precision::default();
     let mut tally = Tally::default();
     for case in 0..cases {
-        let sh = random_shape(&mut rng);
+        let sh = shapes(&mut rng);
         let size = sh.size();
         let h = size / 3000.0;
         let samples = sh.samples(h);
@@ -199,7 +227,9 @@ fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
             .iter()
             .map(|p| n[0] * p[0] + n[1] * p[1])
             .fold(f64::INFINITY, f64::min);
-        let target = if rng.below(5) == 0 {
+        let target = if near {
+            rng.range(-2.0, 2.0) * sh.rect_box_longest() / f64::from(1u32 << precision.depth())
+        } else if rng.below(5) == 0 {
             rng.range(-0.02, 0.02) * size
         } else {
             rng.range(-0.1, 0.35) * size
@@ -221,6 +251,9 @@ fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
         ] {
             if method == "certified" && got.overlap() && got.cells == 0 {
                 tally.newton += 1;
+                if sh.e.iter().any(|&e| e <= 1.0) {
+                    tally.not_convex += 1;
+                }
             }
 
             // The final cells' half-diagonal: the region is inside the shape's box, whose longest
@@ -248,6 +281,18 @@ fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
                 assert!(
                     got.overlap(),
                     "{what}: a disk of radius {rho} at depth {z} is inside both, yet no overlap"
+                );
+            }
+
+            // An answer of the certified path (no cell) is deepest up to half a final cell, and
+            // its "apart" leaves no point more than half a cell into the wall.
+            if method == "certified" && got.cells == 0 {
+                let z = got
+                    .penetration
+                    .map_or(0.0, |pen| -wall.g(pen.deepest.to_array()));
+                assert!(
+                    z >= depth_ref - h - 0.5 * cell - tiny,
+                    "{what}: certified depth {z}, the shape reaches {depth_ref}"
                 );
             }
 
@@ -305,7 +350,8 @@ fn check_tally(t: &Tally, cases: u32) {
         t.apart >= cases / 10
             && t.certified >= cases / 3
             && t.overlaps >= cases / 3
-            && t.newton >= cases / 10,
+            && t.newton >= cases / 10
+            && t.not_convex >= cases / 20,
         "{t:?}"
     );
 }
@@ -326,4 +372,17 @@ fn left_wall_contact_matches_sampled_boundary() {
 fn right_wall_contact_matches_sampled_boundary() {
     let t = run_side(Side::Right, 43, 200);
     check_tally(&t, 200);
+}
+
+/// Stars and shapes convex along one axis only, within two final cells of touching the wall:
+/// where an error of the support's bound decides between "apart" and "in".
+#[test]
+fn not_convex_shapes_near_touching_match_sampled_boundary() {
+    for (k, side) in [Side::Floor, Side::Left, Side::Right]
+        .into_iter()
+        .enumerate()
+    {
+        let t = run_cases(side, 50 + k as u64, 150, not_convex_shape, true);
+        assert!(t.not_convex >= 30, "{t:?}");
+    }
 }

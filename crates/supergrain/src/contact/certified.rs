@@ -26,7 +26,7 @@
 //! proof. When it fails, the caller runs the quadtree: the answer is never less certain than
 //! the paper's, only faster when Newton has found the point.
 
-use super::boundary::deepest_on_boundary;
+use super::boundary::{deepest_on_boundary, support_on_boundary};
 use super::ray::push_out;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
@@ -242,11 +242,13 @@ fn root(x: f64, e: f64) -> f64 {
 }
 
 /// A shape against a wall by the certified path: the point of the shape deepest in the wall is
-/// its support point in the direction into the wall, in closed form (Hölder) for a convex shape
-/// with equal exponents, the dual bound's maximiser ([`support_dual`]) for unequal ones. Kept
-/// only when proven inside the shape and the wall, and deepest up to half a final cell by the
-/// support function's upper bound; proven apart by the same bound. `None`: no proof (or a
-/// star), the caller runs the quadtree.
+/// its support point in the direction into the wall: in closed form (Hölder) for a convex shape
+/// with equal exponents, the dual bound's maximiser ([`support_dual`]) for unequal ones, a tip
+/// for a star (both exponents up to 1), and by a branch and bound over the boundary
+/// ([`support_on_boundary`]) for one exponent up to 1 and the other above. Kept only when
+/// proven inside the shape and the wall, and deepest up to half a final cell by the support
+/// function's upper bound; proven apart by the same bound. `None`: no proof, the caller runs
+/// the quadtree.
 pub(crate) fn certified_wall(
     placed: &PlacedSuperellipse,
     wall: &HalfPlane,
@@ -254,22 +256,32 @@ pub(crate) fn certified_wall(
 ) -> Option<Option<Vec2>> {
     let (shape, pose) = (placed.shape(), placed.pose());
     let [e, ey] = shape.exponents();
-    if e <= 1.0 || ey <= 1.0 {
-        return None;
-    }
     let n = wall.normal();
     let c = pose.center();
     let d = wall.offset();
     // Into the wall, in the shape's frame.
     let m = pose.rotation().apply_inverse(-n);
     let s = shape.semi_axes();
-    // Unequal exponents: the dual bound and its maximiser, from one solve.
-    let dual = if e == ey {
+    let convex = e > 1.0 && ey > 1.0;
+    // The support's bound and the point reaching it, from one solve, except for a convex shape
+    // with equal exponents (closed form, the point only when needed).
+    let solved = if convex && e == ey {
         None
-    } else {
+    } else if convex {
         Some(support_dual(s, [e, ey], m)?)
+    } else if e <= 1.0 && ey <= 1.0 {
+        // A star (or a diamond) lies in the diamond of its tips, so its support is a tip's.
+        let (a, b) = ((m.x * s.x).abs(), (m.y * s.y).abs());
+        let sign = |v: f64| if v < 0.0 { -1.0 } else { 1.0 };
+        Some(if a >= b {
+            (a, Vec2::new(sign(m.x) * s.x, 0.0))
+        } else {
+            (b, Vec2::new(0.0, sign(m.y) * s.y))
+        })
+    } else {
+        Some(support_on_boundary(shape, m, 0.25 * cell)?)
     };
-    let h = match dual {
+    let h = match solved {
         Some((h, _)) => up(h * (1.0 + PAD)),
         None => support_up(s, [e, e], m)?,
     };
@@ -283,21 +295,27 @@ pub(crate) fn certified_wall(
     if min_lo > -0.5 * cell {
         return Some(None);
     }
-    // The dual bound's maximiser is on the boundary up to its Newton solve's precision.
-    let local = match dual {
+    // The point is on the boundary up to its solve's precision: moved a hair towards the
+    // centre, and for a shape that is not convex (a spike's tip, thinner than the rounding of
+    // the pose) further, until proven inside.
+    let on_boundary = match solved {
         Some((_, point)) => point,
         None => support_point(shape, m)?,
-    } * (1.0 - 1e-9);
-    let x = pose.to_world(local);
-    // (A NaN bound proves nothing either.)
-    let hi = placed.enclose_point(x).hi;
-    if !x.is_finite() || hi.is_nan() || hi >= 0.0 {
-        return None;
-    }
-    let (gx, gy) = (n.x * x.x, n.y * x.y);
-    let g_hi = gx + gy - d + PAD * (gx.abs() + gy.abs() + d.abs()) + f64::MIN_POSITIVE;
-    if g_hi < 0.0 && g_hi - min_lo <= 0.5 * cell {
-        return Some(Some(x));
+    };
+    let inward: &[f64] = if convex { &[1e-9] } else { &[1e-9, 1e-6, 1e-3] };
+    for &k in inward {
+        let x = pose.to_world(on_boundary * (1.0 - k));
+        // (A NaN bound proves nothing either.)
+        let hi = placed.enclose_point(x).hi;
+        if !x.is_finite() || hi.is_nan() {
+            return None;
+        }
+        if hi >= 0.0 {
+            continue;
+        }
+        let (gx, gy) = (n.x * x.x, n.y * x.y);
+        let g_hi = gx + gy - d + PAD * (gx.abs() + gy.abs() + d.abs()) + f64::MIN_POSITIVE;
+        return (g_hi < 0.0 && g_hi - min_lo <= 0.5 * cell).then_some(Some(x));
     }
     None
 }

@@ -7,10 +7,10 @@ use crate::subdivision::{CellSink, Precision, deepest_points};
 
 /// The contact of a placed superellipse with a wall (paper III-B).
 ///
-/// A convex shape with equal exponents is answered by the certified path
-/// ([`super::certified`]): its support point towards the wall, in closed form, proven inside
-/// both and deepest up to half a final cell, or the shape proven clear of the wall. Otherwise,
-/// and when that proof fails, the quadtree ([`contact_wall_quadtree`]).
+/// Answered by the certified path ([`super::certified`]): the shape's support point towards the
+/// wall (closed form, dual bound, a star's tip, or a search over the boundary), proven inside
+/// both and deepest up to half a final cell, or the shape proven clear of the wall. When that
+/// proof fails, the quadtree ([`contact_wall_quadtree`]).
 pub fn contact_wall(
     shape: &Superellipse,
     pose: &Pose,
