@@ -3,7 +3,8 @@
 //! own manifold point (`contact/manifold.rs`), one point held a star touching with two spikes,
 //! it rocked from spike to spike as the other closed, and these heaps trembled for ever: over
 //! the last 3,000 of 4,000 steps the grains' mean speed stayed at 0.045-0.050 (exponents
-//! 0.3-0.7) and 0.006-0.012 (0.5-0.9), the fastest at 0.17-0.7.
+//! 0.3-0.7) and 0.006-0.012 (0.5-0.9), the fastest at 0.17-0.7. The spikiest rest since the
+//! wall contact of a star is its tip.
 
 use supergrain::world::{Scene, World};
 
@@ -73,22 +74,23 @@ fn heaps_of_stars_with_exponents_from_half_come_to_rest() {
     }
 }
 
-/// The spikier stars calm down but do not all rest: over 4,000 steps, seeds 1-3 keep a mean
-/// speed of 0.003-0.010 (from 0.045-0.050), seed 4 rests. What keeps them moving is left to
-/// the next round (each region's own normal: today all of a pair's points share the line of
-/// the centres).
+/// The spikier stars come to rest too. They did not while a star's contact with a wall came
+/// from the quadtree: a cell's midpoint near the tip of a spike, up to a cell shallower than
+/// the tip. Since the certified wall contact answers with the
+/// tip itself (`contact/certified.rs`), seeds 1-4 rest by step 1,214-2,336; before, seeds 2 and
+/// 3 (these) kept a grain at 0.5-1.3 over the last 1,000 of 4,000 steps.
 #[test]
-fn heaps_of_spiky_stars_calm_down() {
-    for seed in [1, 3] {
+fn heaps_of_spiky_stars_come_to_rest() {
+    for seed in [2, 3] {
         let mut w = heap([0.3, 0.7], seed);
-        let (after_landing, _, mean) = pour(&mut w, 3000, 1000);
+        let (after_landing, last, _) = pour(&mut w, 3000, 500);
         assert!(
             after_landing < free_fall(),
             "seed {seed}: a grain reached {after_landing} after landing"
         );
         assert!(
-            mean < 0.02,
-            "seed {seed}: the grains' mean speed over the last 10 s is {mean}"
+            last < 0.05,
+            "seed {seed}: a grain still moves at {last} at the end"
         );
     }
 }
