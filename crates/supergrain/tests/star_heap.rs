@@ -76,9 +76,9 @@ fn heaps_of_stars_with_exponents_from_half_come_to_rest() {
 
 /// The spikier stars come to rest too. They did not while a star's contact with a wall came
 /// from the quadtree: a cell's midpoint near the tip of a spike, up to a cell shallower than
-/// the tip. Since the certified wall contact answers with the
-/// tip itself (`contact/certified.rs`), seeds 1-4 rest by step 1,214-2,336; before, seeds 2 and
-/// 3 (these) kept a grain at 0.5-1.3 over the last 1,000 of 4,000 steps.
+/// the tip. Since the certified wall contact answers with the tip itself
+/// (`contact/certified.rs`), seeds 1-4 rest by step 1,214-2,336; before, seeds 2 and 3 (these)
+/// kept a grain at 0.5-1.3 over the last 1,000 of 4,000 steps.
 #[test]
 fn heaps_of_spiky_stars_come_to_rest() {
     for seed in [2, 3] {
