@@ -186,11 +186,16 @@ struct Tally {
     not_convex: u32,
 }
 
-/// Shapes that are not convex: stars and diamonds (both exponents in [0.25, 1]), and shapes
+/// Shapes with an exponent up to 1: stars and diamonds (both exponents in [0.25, 1]), and shapes
 /// with one exponent up to 1 and the other above (convex along one axis only).
 fn not_convex_shape(rng: &mut Rng) -> Shape {
     let mut sh = random_shape(rng);
-    let low = rng.range(0.25, 1.0);
+    // Exactly 1 now and then: a diamond, or a shape with a flat side.
+    let low = if rng.below(6) == 0 {
+        1.0
+    } else {
+        rng.range(0.25, 1.0)
+    };
     sh.e = match rng.below(3) {
         0 => [low, rng.range(0.25, 1.0)],
         1 => [low, rng.range(1.0, 8.0)],
@@ -199,12 +204,12 @@ fn not_convex_shape(rng: &mut Rng) -> Shape {
     sh
 }
 
-/// The wall within a few final cells of touching the shape (`true`), or anywhere from clear
-/// to a third of its size in.
 fn run_side(side: Side, seed: u64, cases: u32) -> Tally {
     run_cases(side, seed, cases, random_shape, false)
 }
 
+/// `cases` shapes from `shapes` against the wall on `side`: the wall within two final cells of
+/// touching the shape (`near`), or anywhere from clear to a third of its size in.
 fn run_cases(
     side: Side,
     seed: u64,

@@ -262,12 +262,14 @@ pub(crate) fn certified_wall(
     // Into the wall, in the shape's frame.
     let m = pose.rotation().apply_inverse(-n);
     let s = shape.semi_axes();
-    let convex = e > 1.0 && ey > 1.0;
+    // (Both exponents above 1: the closed forms' domain. An exponent of exactly 1 with the other
+    // above is convex too, but takes the search below.)
+    let smooth = e > 1.0 && ey > 1.0;
     // The support's bound and the point reaching it, from one solve, except for a convex shape
     // with equal exponents (closed form, the point only when needed).
-    let solved = if convex && e == ey {
+    let solved = if smooth && e == ey {
         None
-    } else if convex {
+    } else if smooth {
         Some(support_dual(s, [e, ey], m)?)
     } else if e <= 1.0 && ey <= 1.0 {
         // A star (or a diamond) lies in the diamond of its tips, so its support is a tip's.
@@ -302,7 +304,7 @@ pub(crate) fn certified_wall(
         Some((_, point)) => point,
         None => support_point(shape, m)?,
     };
-    let inward: &[f64] = if convex { &[1e-9] } else { &[1e-9, 1e-6, 1e-3] };
+    let inward: &[f64] = if smooth { &[1e-9] } else { &[1e-9, 1e-6, 1e-3] };
     for &k in inward {
         let x = pose.to_world(on_boundary * (1.0 - k));
         // (A NaN bound proves nothing either.)
