@@ -48,8 +48,10 @@ const SLOPE_PAD: f64 = 1e-9;
 const SLOPE_MIN_EXPONENT: f64 = 0.5;
 /// Splits before giving up: a near-touching pair takes a few dozen.
 const MAX_SPLITS: usize = 400;
-/// Arcs kept at once before giving up.
-const MAX_ARCS: usize = 96;
+/// Arcs kept at once before giving up. Faces pressed flat on each other keep many arcs open
+/// at once: in the mixed pour (`examples/scenes/pour-mixed.toml`, 150 steps from step 1,000)
+/// 96 sent 3,656 searches to the quadtree, 192 one, and the steps took 20% less time.
+const MAX_ARCS: usize = 192;
 /// How far towards `own`'s centre a witness is moved, tried in turn: a hair first (as the
 /// Newton path), then more for a spike's tip, where the rounding of the pose moves points
 /// across the thin spike.
