@@ -81,7 +81,8 @@ impl Half {
     /// The boundary point at `p`, enclosed: `(s_p p, s_q (1 - p^e_p)^(1/e_q))`, each end rounded
     /// outward, the root padded for the rounding of `1 / e_q`.
     fn enclose(&self, p: f64) -> Aabb {
-        self.enclose_and_point(p).0
+        let (lo, hi, _) = self.e_p.pow_all(p);
+        self.enclose_from(p, Interval::new(lo, hi))
     }
 
     /// [`Self::enclose`] and [`Self::point`] at once, sharing the power `p^e_p` (bit for bit
@@ -300,14 +301,16 @@ pub(crate) fn deepest_on_boundary(
     let own = placed_own.shape();
     debug_assert_eq!(*placed_own.pose(), Pose::ORIGIN);
     let centre = other.pose().center();
-    let proven_in = |shape: &PlacedSuperellipse, q: Vec2| {
+    // An upper bound of a shape's `f` over the box of half-width `slack` about `q`.
+    let upper = |shape: &PlacedSuperellipse, q: Vec2| {
         if slack == 0.0 {
-            shape.enclose_point(q).hi < 0.0
+            shape.enclose_point(q).hi
         } else {
             let d = Vec2::new(slack, slack);
-            shape.enclose(&Aabb::new(q - d, q + d)).hi < 0.0
+            shape.enclose(&Aabb::new(q - d, q + d)).hi
         }
     };
+    let proven_in = |shape: &PlacedSuperellipse, q: Vec2| upper(shape, q) < 0.0;
     // Does `own` hold `other`'s centre? Then it is the deepest point (`f_other = -1`). Beyond
     // `own`'s bounding circle (padded for the rounding of the test) it does not.
     let r = own.bounding_radius() * (1.0 + 1e-9);
@@ -391,13 +394,12 @@ pub(crate) fn deepest_on_boundary(
         }
         for k in INWARD {
             let w = q * (1.0 - k);
-            if proven_in(placed_own, w) && proven_in(other, w) {
-                let v = if slack == 0.0 {
-                    other.enclose_point(w).hi
-                } else {
-                    let d = Vec2::new(slack, slack);
-                    other.enclose(&Aabb::new(w - d, w + d)).hi
-                };
+            // The bound that proves `w` inside `other` is also the witness's value.
+            if !proven_in(placed_own, w) {
+                continue;
+            }
+            let v = upper(other, w);
+            if v < 0.0 {
                 let tau = 0.5 * cell * other.gradient(w).norm();
                 if tau.is_finite() && best.is_none_or(|b| v < b.value) {
                     *best = Some(Witness {
@@ -548,8 +550,16 @@ pub(crate) fn support_on_boundary(shape: &Superellipse, m: Vec2, tol: f64) -> Op
             *best = (v, q);
         }
     };
-    // (half, p0, p1, box at p0, box at p1, bound)
-    let mut arcs: Vec<(usize, f64, f64, Aabb, Aabb, f64)> = Vec::with_capacity(16);
+    // An arc of `table[half]` between two parameters, its ends' boxes and its bound.
+    struct Open {
+        half: usize,
+        p0: f64,
+        p1: f64,
+        b0: Aabb,
+        b1: Aabb,
+        bound: f64,
+    }
+    let mut arcs: Vec<Open> = Vec::with_capacity(16);
     for (k, half) in table.iter().enumerate() {
         let (b0, q0) = half.enclose_and_point(half.lo);
         let (b1, q1) = half.enclose_and_point(half.hi);
@@ -560,22 +570,37 @@ pub(crate) fn support_on_boundary(shape: &Superellipse, m: Vec2, tol: f64) -> Op
         if boxed.is_nan() || b.is_nan() {
             return None;
         }
-        arcs.push((k, half.lo, half.hi, b0, b1, b));
+        arcs.push(Open {
+            half: k,
+            p0: half.lo,
+            p1: half.hi,
+            b0,
+            b1,
+            bound: b,
+        });
     }
     // The largest bound of the arcs dropped: still a bound of the support.
     let mut dropped = f64::NEG_INFINITY;
     for _ in 0..MAX_SPLITS {
-        let Some(k) = (0..arcs.len()).max_by(|&i, &j| arcs[i].5.total_cmp(&arcs[j].5)) else {
+        let Some(k) = (0..arcs.len()).max_by(|&i, &j| arcs[i].bound.total_cmp(&arcs[j].bound))
+        else {
             return (dropped - best.0 <= tol).then_some((dropped, best.1));
         };
-        let upper = arcs[k].5.max(dropped);
+        let upper = arcs[k].bound.max(dropped);
         if !upper.is_finite() {
             return None;
         }
         if upper - best.0 <= tol {
             return Some((upper, best.1));
         }
-        let (h, p0, p1, b0, b1, _) = arcs.swap_remove(k);
+        let Open {
+            half: h,
+            p0,
+            p1,
+            b0,
+            b1,
+            ..
+        } = arcs.swap_remove(k);
         let mid = 0.5 * (p0 + p1);
         if !(mid > p0 && mid < p1) || arcs.len() + 2 > MAX_ARCS {
             return None;
@@ -592,7 +617,14 @@ pub(crate) fn support_on_boundary(shape: &Superellipse, m: Vec2, tol: f64) -> Op
                 b = tighter(&table[h], (lo, hi), &blo, &bhi, b);
             }
             if b > best.0 {
-                arcs.push((h, lo, hi, blo, bhi, b));
+                arcs.push(Open {
+                    half: h,
+                    p0: lo,
+                    p1: hi,
+                    b0: blo,
+                    b1: bhi,
+                    bound: b,
+                });
             } else {
                 dropped = dropped.max(b);
             }

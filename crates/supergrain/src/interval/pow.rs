@@ -45,12 +45,7 @@ impl Exponent {
             Exponent::Half => down(x.sqrt()),
             Exponent::Other(e) => down(down(x.powf(e))),
         };
-        // An overflowing power makes `down(inf)` NaN: the true value is then above f64::MAX.
-        if r.is_nan() {
-            f64::MAX
-        } else {
-            r.clamp(0.0, f64::MAX)
-        }
+        finite_lower(r)
     }
 
     /// An upper bound of `x^e` for `x >= 0`.
@@ -81,14 +76,20 @@ impl Exponent {
             return (self.pow_down(x), self.pow_up(x), plain(self, x));
         };
         let r = x.powf(e);
-        let lo = down(down(r));
-        let lo = if lo.is_nan() {
-            f64::MAX
-        } else {
-            lo.clamp(0.0, f64::MAX)
-        };
+        let lo = finite_lower(down(down(r)));
         let hi = if x == 0.0 { 0.0 } else { up(up(r)) };
         (lo, hi, r)
+    }
+}
+
+/// A rounded-down power made finite and never negative: an overflowing power makes
+/// `down(inf)` NaN, and the true value is then above `f64::MAX`.
+#[inline(always)]
+fn finite_lower(r: f64) -> f64 {
+    if r.is_nan() {
+        f64::MAX
+    } else {
+        r.clamp(0.0, f64::MAX)
     }
 }
 
