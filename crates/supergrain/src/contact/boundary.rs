@@ -263,6 +263,33 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
     [near_y, near_x]
 }
 
+impl Half {
+    /// The same half in the quadrant of signs `(fx, fy)` (each 1 or -1) relative to this one's.
+    fn mirrored(&self, fx: f64, fy: f64) -> Half {
+        let (fp, fq) = if self.by_y { (fy, fx) } else { (fx, fy) };
+        Half {
+            s_p: fp * self.s_p,
+            s_q: fq * self.s_q,
+            ..*self
+        }
+    }
+}
+
+/// A box reflected through the axes where `fx`, `fy` are -1.
+fn mirrored(b: &Aabb, fx: f64, fy: f64) -> Aabb {
+    let (x0, x1) = if fx < 0.0 {
+        (-b.max.x, -b.min.x)
+    } else {
+        (b.min.x, b.max.x)
+    };
+    let (y0, y1) = if fy < 0.0 {
+        (-b.max.y, -b.min.y)
+    } else {
+        (b.min.y, b.max.y)
+    };
+    Aabb::new(Vec2::new(x0, y0), Vec2::new(x1, y1))
+}
+
 /// An arc of one half between two parameters, with its ends' boxes and the lower bound of
 /// `f_other` over their hull.
 #[derive(Clone, Copy)]
@@ -338,12 +365,18 @@ pub(crate) fn deepest_on_boundary(
         || (least(other.shape()) >= SLOPE_MIN_EXPONENT && least(own) >= 1.0);
     let [ex, ey] = own.exponents();
     let s = own.semi_axes();
-    let mut table = [halves(ex, ey, s.x, s.y)[0]; 8];
+    // The first quadrant's halves and their ends' boxes, once: the other quadrants' are their
+    // mirror images, bit for bit (outward rounding is symmetric under a change of sign).
+    // (The boxes only when a quadrant needs them: an apart pair often has none.)
+    let first = halves(ex, ey, s.x, s.y);
+    let mut first_ends: Option<[(Aabb, Aabb); 2]> = None;
+    let mut table = [first[0]; 8];
     let mut arcs: Vec<Arc> = Vec::with_capacity(16);
-    for (k, (sx, sy)) in [(s.x, s.y), (-s.x, s.y), (-s.x, -s.y), (s.x, -s.y)]
+    for (k, (fx, fy)) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)]
         .into_iter()
         .enumerate()
     {
+        let (sx, sy) = (fx * s.x, fy * s.y);
         // A quadrant whose box is clear of `other` costs one enclosure, usually no power.
         let quadrant = Aabb::new(
             Vec2::new(sx.min(0.0), sy.min(0.0)),
@@ -352,10 +385,13 @@ pub(crate) fn deepest_on_boundary(
         if other.lower_bound(&quadrant) >= 0.0 {
             continue;
         }
-        for (m, half) in halves(ex, ey, sx, sy).into_iter().enumerate() {
+        let ends =
+            *first_ends.get_or_insert_with(|| first.map(|h| (h.enclose(h.lo), h.enclose(h.hi))));
+        for (m, (base, ends)) in first.iter().zip(&ends).enumerate() {
             let index = 2 * k + m;
+            let half = base.mirrored(fx, fy);
             table[index] = half;
-            let (b0, b1) = (half.enclose(half.lo), half.enclose(half.hi));
+            let (b0, b1) = (mirrored(&ends.0, fx, fy), mirrored(&ends.1, fx, fy));
             let hull = b0.union(&b1);
             let lower = other.lower_bound(&hull);
             if lower < 0.0 {
@@ -680,6 +716,30 @@ mod tests {
         let e_q = if h.by_y { ex } else { ey };
         let (a, b) = (rng.random_range(h.lo..h.hi), rng.random_range(h.lo..h.hi));
         (h, e_q, a.min(b), a.max(b))
+    }
+
+    /// A half and its ends' boxes mirrored from the first quadrant are those computed in the
+    /// quadrant itself, bit for bit (the search computes them once and mirrors them).
+    #[test]
+    fn mirrored_halves_are_the_quadrants_own() {
+        let mut rng = ChaCha8Rng::seed_from_u64(8);
+        for _ in 0..500 {
+            let (ex, ey) = (exponent(&mut rng), exponent(&mut rng));
+            let (sx, sy) = (rng.random_range(0.2..1.0), rng.random_range(0.2..1.0));
+            let first = halves(ex, ey, sx, sy);
+            for (fx, fy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
+                let own = halves(ex, ey, fx * sx, fy * sy);
+                for m in 0..2 {
+                    let (base, h) = (first[m].mirrored(fx, fy), own[m]);
+                    assert_eq!((base.s_p, base.s_q), (h.s_p, h.s_q));
+                    let p = rng.random_range(h.lo..=h.hi);
+                    for p in [h.lo, h.hi, p] {
+                        assert_eq!(mirrored(&first[m].enclose(p), fx, fy), h.enclose(p));
+                        assert_eq!(base.point(p), h.point(p));
+                    }
+                }
+            }
+        }
     }
 
     #[test]
