@@ -546,8 +546,9 @@ fn find_contacts<B: BroadPhase + Sync>(
             b.angle + b.angular_velocity * h,
         )
     }));
-    // The boxes and the pairs on all cores too, in the grains' order: at 100,000 grains,
-    // nearly all asleep, these passes over every grain were most of a step.
+    // The boxes and the pairs on all cores too, in the grains' order (the same pairs in the
+    // same order): these passes go over every grain, awake or asleep, and on one core they
+    // kept the 100,000-grain pour at 1.23 cores; on all, it rests in 17% less time.
     work.boxes.clear();
     work.boxes.par_extend(
         bodies
