@@ -85,6 +85,16 @@ impl Half {
         self.enclose_from(p, Interval::new(lo, hi))
     }
 
+    /// The same half in the quadrant of signs `(fx, fy)` (each 1 or -1) relative to this one's.
+    fn mirrored(&self, fx: f64, fy: f64) -> Half {
+        let (fp, fq) = if self.by_y { (fy, fx) } else { (fx, fy) };
+        Half {
+            s_p: fp * self.s_p,
+            s_q: fq * self.s_q,
+            ..*self
+        }
+    }
+
     /// [`Self::enclose`] and [`Self::point`] at once, sharing the power `p^e_p` (bit for bit
     /// the same answers; 2 of the 12 powers of a split saved).
     fn enclose_and_point(&self, p: f64) -> (Aabb, Vec2) {
@@ -263,31 +273,10 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
     [near_y, near_x]
 }
 
-impl Half {
-    /// The same half in the quadrant of signs `(fx, fy)` (each 1 or -1) relative to this one's.
-    fn mirrored(&self, fx: f64, fy: f64) -> Half {
-        let (fp, fq) = if self.by_y { (fy, fx) } else { (fx, fy) };
-        Half {
-            s_p: fp * self.s_p,
-            s_q: fq * self.s_q,
-            ..*self
-        }
-    }
-}
-
-/// A box reflected through the axes where `fx`, `fy` are -1.
+/// A box reflected through the axes where `fx`, `fy` are -1 (exactly: a change of sign).
 fn mirrored(b: &Aabb, fx: f64, fy: f64) -> Aabb {
-    let (x0, x1) = if fx < 0.0 {
-        (-b.max.x, -b.min.x)
-    } else {
-        (b.min.x, b.max.x)
-    };
-    let (y0, y1) = if fy < 0.0 {
-        (-b.max.y, -b.min.y)
-    } else {
-        (b.min.y, b.max.y)
-    };
-    Aabb::new(Vec2::new(x0, y0), Vec2::new(x1, y1))
+    let flip = |p: Vec2| Aabb::point(Vec2::new(fx * p.x, fy * p.y));
+    flip(b.min).union(&flip(b.max))
 }
 
 /// An arc of one half between two parameters, with its ends' boxes and the lower bound of

@@ -557,27 +557,25 @@ fn find_contacts<B: BroadPhase + Sync>(
             .map(|(b, p)| b.shape.bounding_box(p)),
     );
     broad.rebuild(&work.boxes);
-    let (boxes, awake, warm, grid) = (&work.boxes, &work.awake, &work.warm, &*broad);
-    let chunks: Vec<Vec<PairEntry>> = (0..bodies.len().div_ceil(PAIR_CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let (mut out, mut candidates) = (Vec::new(), Vec::new());
-            for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(bodies.len()) {
-                candidates.clear();
-                grid.candidates(i, boxes, &mut candidates);
-                for &j in candidates.iter().filter(|&&j| j > i) {
-                    if awake[i] || awake[j] {
-                        out.push((i, j, warm.get(&(i, j)).copied()));
+    let (boxes, awake, warm, broad) = (&work.boxes, &work.awake, &work.warm, &*broad);
+    work.pairs.clear();
+    work.pairs.par_extend(
+        (0..bodies.len().div_ceil(PAIR_CHUNK))
+            .into_par_iter()
+            .flat_map_iter(|c| {
+                let (mut out, mut candidates) = (Vec::new(), Vec::new());
+                for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(bodies.len()) {
+                    candidates.clear();
+                    broad.candidates(i, boxes, &mut candidates);
+                    for &j in candidates.iter().filter(|&&j| j > i) {
+                        if awake[i] || awake[j] {
+                            out.push((i, j, warm.get(&(i, j)).copied()));
+                        }
                     }
                 }
-            }
-            out
-        })
-        .collect();
-    work.pairs.clear();
-    for chunk in chunks {
-        work.pairs.extend(chunk);
-    }
+                out
+            }),
+    );
     let predicted = &work.predicted;
     let found: Vec<Option<(Option<Constraint>, Option<WarmStart>)>> = work
         .pairs
