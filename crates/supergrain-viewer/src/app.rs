@@ -123,7 +123,18 @@ pub struct App {
     edits: Edits,
     /// The grains drawn on the CPU into a picture, shown as one texture, and what it shows.
     grains_picture: Option<(egui::TextureHandle, PictureKey)>,
+    /// While the grains move, draw them with plain edges: set when an anti-aliased picture
+    /// takes longer than [`SMOOTH_BUDGET`], cleared when a plain one takes less than
+    /// [`PLAIN_BUDGET`]. Anti-aliasing triples tiny-skia's time (the 1,000-grain pour at
+    /// 919 x 758 pixels: 9.2 ms against 2.8, medians), and under software OpenGL on two cores
+    /// the smooth pictures held the window at 40 frames a second. A picture that stops
+    /// changing (paused, or the grains at rest) is redrawn smooth.
+    plain_while_playing: bool,
 }
+
+/// See [`App::plain_while_playing`] (seconds).
+const SMOOTH_BUDGET: f64 = 0.005;
+const PLAIN_BUDGET: f64 = 0.0015;
 
 /// A value edited in the window, and the number of the command that carries it: until a
 /// snapshot shows that command done, the panel shows the edit, not the snapshot's older value
@@ -155,6 +166,8 @@ struct PictureKey {
     center: (f64, f64),
     scale: f64,
     size: [usize; 2],
+    /// Anti-aliased (else plain edges: [`App::plain_while_playing`]).
+    smooth: bool,
 }
 
 impl App {
@@ -189,6 +202,7 @@ impl App {
             shot_path: "supergrain-screenshot.png".into(),
             last_label: String::new(),
             grains_picture: None,
+            plain_while_playing: false,
             sent,
             edits: Edits::default(),
         }
@@ -494,7 +508,6 @@ impl App {
     fn canvas(&mut self, ui: &mut egui::Ui, snap: &Arc<Snapshot>) {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
-        painter.rect_filled(rect, 0.0, Color32::from_rgb(250, 250, 250));
         let [left, right, floor] = snap.walls;
         let region = Aabb::new(
             Vec2::new(left, floor),
@@ -513,7 +526,29 @@ impl App {
         pan_and_zoom(ui, &response, rect, cam);
         let cam = *cam;
 
-        // The box: floor and walls up to where grains appear.
+        // The grains on the canvas's background, then the box: floor and walls up to where
+        // grains appear.
+        // The picture covers only the box and the grains (wherever they are): the rest of the
+        // canvas is the window's clear colour, the same grey ([`App::clear_color`]). Over the
+        // whole canvas, the 1,000-grain pour's picture was twice the pixels to fill, upload
+        // and draw (software OpenGL drew a paused window at 65 frames a second on 0.9 cores).
+        let occupied = snap
+            .grains
+            .iter()
+            .fold(region, |r, g| r.union(&g.shape.bounding_box(&g.pose)));
+        let (a, b) = (
+            cam.to_screen(rect, occupied.min),
+            cam.to_screen(rect, occupied.max),
+        );
+        let picture = Rect::from_two_pos(a, b).expand(1.0).intersect(rect);
+        let picture = Rect::from_min_max(picture.min.floor(), picture.max.ceil());
+        if picture.is_positive() {
+            let at = Camera {
+                center: cam.to_plane(rect, picture.center()),
+                scale: cam.scale,
+            };
+            self.paint_grains(ui, &painter, picture, at, snap);
+        }
         let wall = Stroke::new(2.0, Color32::from_gray(60));
         let (bl, br) = (Vec2::new(left, floor), Vec2::new(right, floor));
         let (tl, tr) = (Vec2::new(left, snap.top), Vec2::new(right, snap.top));
@@ -521,7 +556,6 @@ impl App {
             [tl, bl, br, tr].map(|p| cam.to_screen(rect, p)).to_vec(),
             wall,
         );
-        self.paint_grains(ui, &painter, rect, cam, snap);
         if snap.overlays.boxes {
             for g in &snap.grains {
                 let b = g.shape.bounding_box(&g.pose);
@@ -588,21 +622,40 @@ impl App {
             (f64::from(rect.width()) * ppp).round().max(1.0) as usize,
             (f64::from(rect.height()) * ppp).round().max(1.0) as usize,
         ];
+        let clock = seconds();
+        let smooth = clock.is_none() || !(snap.playing && self.plain_while_playing);
         let key = PictureKey {
             snapshot: Arc::clone(snap),
             center: (cam.center.x, cam.center.y),
             scale: cam.scale,
             size,
+            smooth,
         };
+        // The same picture, or a smooth one where a plain one would do.
         let same = |k: &PictureKey| {
             Arc::ptr_eq(&k.snapshot, &key.snapshot)
                 && k.center == key.center
                 && k.scale == key.scale
                 && k.size == key.size
+                && k.smooth >= key.smooth
         };
         if !self.grains_picture.as_ref().is_some_and(|(_, k)| same(k)) {
-            let image =
-                crate::picture::grains(&snap.grains, snap.held, size, cam.center, cam.scale * ppp);
+            let image = crate::picture::grains(
+                &snap.grains,
+                snap.held,
+                size,
+                cam.center,
+                cam.scale * ppp,
+                smooth,
+            );
+            if let (Some(start), Some(end)) = (clock, seconds()) {
+                let took = end - start;
+                if smooth && snap.playing && took > SMOOTH_BUDGET {
+                    self.plain_while_playing = true;
+                } else if !smooth && took < PLAIN_BUDGET {
+                    self.plain_while_playing = false;
+                }
+            }
             match &mut self.grains_picture {
                 Some((texture, k)) => {
                     texture.set(image, egui::TextureOptions::NEAREST);
@@ -619,6 +672,8 @@ impl App {
         if let Some((texture, _)) = &self.grains_picture {
             let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
             painter.image(texture.id(), rect, uv, Color32::WHITE);
+        } else {
+            painter.rect_filled(rect, 0.0, crate::picture::BACKGROUND);
         }
     }
 
@@ -812,6 +867,31 @@ fn material_sliders(ui: &mut egui::Ui, m: &mut Material, density: bool) {
     );
 }
 
+/// Seconds on a monotonic clock, natively (the browser's build has no `Instant`: its
+/// pictures are always smooth).
+fn seconds() -> Option<f64> {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        static CLOCK: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+        Some(
+            CLOCK
+                .get_or_init(std::time::Instant::now)
+                .elapsed()
+                .as_secs_f64(),
+        )
+    }
+    #[cfg(target_arch = "wasm32")]
+    None
+}
+
+/// The time to the next tick of a 60 Hz clock started with the first frame.
+#[cfg(not(target_arch = "wasm32"))]
+fn until_next_tick() -> std::time::Duration {
+    let t = seconds().unwrap_or(0.0);
+    let tick = 1.0 / 60.0;
+    std::time::Duration::from_secs_f64(((t / tick).floor() + 1.0) * tick - t)
+}
+
 fn pan_and_zoom(ui: &egui::Ui, response: &egui::Response, rect: Rect, cam: &mut Camera) {
     if response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle) {
         let d = response.drag_delta();
@@ -827,6 +907,11 @@ fn pan_and_zoom(ui: &egui::Ui, response: &egui::Response, rect: Rect, cam: &mut 
 }
 
 impl eframe::App for App {
+    /// The canvas's background, around the grains' picture.
+    fn clear_color(&self, _visuals: &egui::Visuals) -> [f32; 4] {
+        crate::picture::BACKGROUND.to_normalized_gamma_f32()
+    }
+
     fn update(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
         let now = ctx.input(|i| i.time);
         let started = *self.started.get_or_insert(now);
@@ -883,11 +968,14 @@ impl eframe::App for App {
                     .show(ctx, |ui| self.explorer_canvas(ui));
             }
         }
-        // Natively the worker asks for a repaint with each snapshot; otherwise no more than
-        // 60 frames a second are drawn (a browser paces frames itself).
+        // Natively the worker asks for a repaint with each snapshot, and frames are drawn on
+        // the ticks of a 60 Hz clock: a repaint asked for a sixtieth of a second after each
+        // frame's end made every period that much longer than the frame (50-59 frames a second
+        // measured for the 1,000-grain pour under software OpenGL). A browser paces frames
+        // itself.
         if snap.playing || self.launch.quit_after.is_some() || self.launch.log_fps {
             #[cfg(not(target_arch = "wasm32"))]
-            ctx.request_repaint_after(std::time::Duration::from_secs_f64(1.0 / 60.0));
+            ctx.request_repaint_after(until_next_tick());
             #[cfg(target_arch = "wasm32")]
             ctx.request_repaint();
         }

@@ -612,12 +612,16 @@ fn find_contacts<B: BroadPhase + Sync>(
     };
     work.next_warm.clear();
     work.constraints.clear();
-    for (&(i, j, _), answer) in work.pairs.iter().zip(found) {
-        let (constraint, warm) = answer.expect("not stopped");
+    // By reference: most pairs are boxes that meet without the grains touching, and moving
+    // each answer out by value copied its empty constraint too (6% of a settled heap's step).
+    for (&(i, j, _), answer) in work.pairs.iter().zip(&found) {
+        let (constraint, warm) = answer.as_ref().expect("not stopped");
         if let Some(w) = warm {
-            work.next_warm.insert((i, j), w);
+            work.next_warm.insert((i, j), *w);
         }
-        work.constraints.extend(constraint);
+        if let Some(c) = constraint {
+            work.constraints.push(*c);
+        }
     }
     let wall_precision = settings.wall_precision();
     let wall_boxes: Vec<Aabb> = walls.iter().map(HalfPlane::bounding_box).collect();
