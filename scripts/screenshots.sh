@@ -107,6 +107,12 @@ rate() { awk '{ for (i = 1; i < NF; i++) { if ($i == "step") s = $(i + 1); if ($
   echo
   echo "1,000-grain pour (examples/scenes/pour-1000.toml), once a second over 60 s:"
   cat "$work/fps.txt"
+  # Real time: the scene's step is h = 0.01 s (the default), so 100 steps a second keep up.
+  field() { awk -v k="$1" '{ for (i = 1; i < NF; i++) if ($i == k) print $(i + 1) }' "$work/fps.txt" | sort -g; }
+  median() { awk '{ a[NR] = $1 } END { print a[int((NR + 1) / 2)] }'; }
+  echo "frames per second: median $(field fps | median), lowest $(field fps | head -n 1)"
+  echo "steps per second after the first second: median $(field steps/s | tail -n +2 | median), lowest $(field steps/s | sed -n 2p)"
+  echo "simulated time $(tail -n 1 "$work/fps.txt" | awk '{ for (i = 1; i < NF; i++) { if ($i == "step") s = $(i + 1); if ($i == "t") t = $(i + 1) } } END { printf "%.1f s in %.1f s", s * 0.01, t }') of the clock (h = 0.01 s a step)"
   echo
   echo "mixed preset, 50 steps per frame, native, last line (t: seconds since start):"
   echo "$native_mixed"
