@@ -526,12 +526,11 @@ impl App {
         pan_and_zoom(ui, &response, rect, cam);
         let cam = *cam;
 
-        // The grains on the canvas's background, then the box: floor and walls up to where
-        // grains appear.
-        // The picture covers only the box and the grains (wherever they are): the rest of the
-        // canvas is the window's clear colour, the same grey ([`App::clear_color`]). Over the
-        // whole canvas, the 1,000-grain pour's picture was twice the pixels to fill, upload
-        // and draw (software OpenGL drew a paused window at 65 frames a second on 0.9 cores).
+        // The grains' picture, on the canvas's background, covers only the box and the grains
+        // (wherever they are): the rest of the canvas is the window's clear colour, the same
+        // grey ([`App::clear_color`]). Over the whole canvas, the 1,000-grain pour's picture
+        // was twice the pixels to fill, upload and draw (software OpenGL drew a paused window
+        // at 65 frames a second on 0.9 cores).
         let occupied = snap
             .grains
             .iter()
@@ -549,6 +548,7 @@ impl App {
             };
             self.paint_grains(ui, &painter, picture, at, snap);
         }
+        // The box: floor and walls up to where grains appear.
         let wall = Stroke::new(2.0, Color32::from_gray(60));
         let (bl, br) = (Vec2::new(left, floor), Vec2::new(right, floor));
         let (tl, tr) = (Vec2::new(left, snap.top), Vec2::new(right, snap.top));
@@ -672,8 +672,6 @@ impl App {
         if let Some((texture, _)) = &self.grains_picture {
             let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
             painter.image(texture.id(), rect, uv, Color32::WHITE);
-        } else {
-            painter.rect_filled(rect, 0.0, crate::picture::BACKGROUND);
         }
     }
 
