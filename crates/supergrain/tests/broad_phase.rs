@@ -1,7 +1,7 @@
 //! The grid broad phase against the reference: brute force over every pair, and whole runs.
 
 use proptest::prelude::*;
-use supergrain::broad_phase::{BroadPhase, Grid, Kind};
+use supergrain::broad_phase::{AllPairs, BroadPhase, Grid, Kind};
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::io::Dump;
 use supergrain::world::{Scene, World};
@@ -45,6 +45,10 @@ proptest! {
                 out.clear();
                 grid.candidates(i, boxes, out);
                 assert_eq!(*out, brute(i, boxes), "body {i}");
+                out.clear();
+                grid.later_candidates(i, boxes, out);
+                let later: Vec<usize> = brute(i, boxes).into_iter().filter(|&j| j > i).collect();
+                assert_eq!(*out, later, "body {i}, later ones");
             }
         };
         check(&grid, &boxes, &mut out);
@@ -67,6 +71,13 @@ fn candidates_append() {
     let mut out = vec![7];
     grid.candidates(0, &boxes, &mut out);
     assert_eq!(out, vec![7, 1]);
+    for broad in [&grid as &dyn BroadPhase, &AllPairs] {
+        let mut out = vec![7];
+        broad.later_candidates(1, &boxes, &mut out);
+        assert_eq!(out, vec![7], "nothing after the last body");
+        broad.later_candidates(0, &boxes, &mut out);
+        assert_eq!(out, vec![7, 1]);
+    }
 }
 
 fn particles(world: &World) -> String {

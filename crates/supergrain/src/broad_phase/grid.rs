@@ -163,6 +163,20 @@ impl BroadPhase for Grid {
     }
 
     fn candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>) {
+        self.gather(i, boxes, out, |j| j != i);
+    }
+
+    /// Half the boxes tested and sorted, where the soft step asked for all and kept the later
+    /// ones (the pairs' search was 5% of a settled heap's step).
+    fn later_candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>) {
+        self.gather(i, boxes, out, |j| j > i);
+    }
+}
+
+impl Grid {
+    /// The bodies `j` that `keep` lets through and whose box overlaps body `i`'s, appended in
+    /// increasing order, each once.
+    fn gather(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>, keep: impl Fn(usize) -> bool) {
         let q = boxes[i];
         let start = out.len();
         let (x0, y0, x1, y1) = self.range(&q);
@@ -170,7 +184,7 @@ impl BroadPhase for Grid {
             for x in x0..=x1 {
                 for &j in &self.cells[y * self.nx + x] {
                     let j = j as usize;
-                    if j != i && q.intersects(&boxes[j]) {
+                    if keep(j) && q.intersects(&boxes[j]) {
                         out.push(j);
                     }
                 }

@@ -19,6 +19,14 @@ pub trait BroadPhase {
     /// increasing order (the order fixes the order of corrections, so results are reproducible).
     fn candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>);
 
+    /// [`Self::candidates`] after `i` only (`j > i`): each pair once, as the soft step asks.
+    fn later_candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>) {
+        let start = out.len();
+        self.candidates(i, boxes, out);
+        let later = out[start..].partition_point(|&j| j < i);
+        out.drain(start..start + later);
+    }
+
     /// Body `i`'s box changed within a step (it is `boxes[i]` at the next query).
     fn update(&mut self, _i: usize, _b: &Aabb) {}
 }
@@ -62,6 +70,13 @@ impl BroadPhase for Any {
         match self {
             Any::Grid(g) => g.candidates(i, boxes, out),
             Any::AllPairs(a) => a.candidates(i, boxes, out),
+        }
+    }
+
+    fn later_candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>) {
+        match self {
+            Any::Grid(g) => g.later_candidates(i, boxes, out),
+            Any::AllPairs(a) => a.later_candidates(i, boxes, out),
         }
     }
 

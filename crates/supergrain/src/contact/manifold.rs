@@ -398,18 +398,22 @@ fn patch(
     };
     let step = std::f64::consts::TAU / f64::from(WALK_STEPS);
     let (step_sin, step_cos) = step.sin_cos();
+    let (sin0, cos0) = t0.sin_cos();
     let first = Sample {
         t: t0,
-        point: at(t0),
+        point: on_ray(cos0, sin0),
     };
     let first_gap = gap(first.point);
     // Walking `way` from `t0` (the direction turned by a rotation per step, not a `sin_cos`):
     // the samples in the patch, the deepest point first, then the first sample beyond it and
     // the separations at the last two.
     let walk = |way: f64| {
-        let (mut s, mut c) = t0.sin_cos();
+        let (mut s, mut c) = (sin0, cos0);
         let turn = way * step_sin;
-        let mut samples = vec![first];
+        // Room for the whole walk and the end: grown one push at a time, it made 2,300
+        // reallocations a step of the settled mixed heap.
+        let mut samples = Vec::with_capacity(WALK_STEPS as usize / 2 + 2);
+        samples.push(first);
         let mut inside_gap = first_gap;
         for k in 1..=WALK_STEPS / 2 {
             (c, s) = (c * step_cos - s * turn, s * step_cos + c * turn);
