@@ -188,7 +188,7 @@ impl Half {
     fn tangent(&self, e0: &End, e1: &End) -> Option<(f64, Interval)> {
         let e_p = self.e_p_float;
         let (p0, p1) = (e0.p, e1.p);
-        if !(p1 > 0.0) {
+        if p1.is_nan() || p1 <= 0.0 {
             return None;
         }
         let pp = if e_p >= 1.0 {
