@@ -528,10 +528,10 @@ pub(crate) fn deepest_on_boundary(
             f64::NEG_INFINITY
         };
         let m = nodes.len() as u32;
-        nodes.push(Node { end: em, f: fm });
-        let nm = nodes[m as usize];
-        for (i0, i1, a, b) in [(arc.e0, m, n0, nm), (m, arc.e1, nm, n1)] {
-            let (e0, e1, f0, f1) = (a.end, b.end, a.f, b.f);
+        let nm = Node { end: em, f: fm };
+        nodes.push(nm);
+        for (i0, i1, a, b) in [(arc.e0, m, &n0, &nm), (m, arc.e1, &nm, &n1)] {
+            let (e0, e1, f0, f1) = (&a.end, &b.end, a.f, b.f);
             let hull = e0.b.union(&e1.b);
             let lower = other.lower_bound(&hull);
             // An arc outside `other` (`f >= 0`) holds no deeper point than any witness (`f < 0`)
@@ -540,7 +540,7 @@ pub(crate) fn deepest_on_boundary(
                 // Only an arc that would stay open needs the finer bound.
                 let lower = match best {
                     Some(w) if lower >= w.value - w.tau => lower,
-                    _ if slopes => tighter(&half, other, (&e0, &e1), &hull, (f0, f1), lower),
+                    _ if slopes => tighter(&half, other, (e0, e1), &hull, (f0, f1), lower),
                     _ => lower,
                 };
                 if lower >= 0.0 {

@@ -654,8 +654,7 @@ fn find_contacts<B: BroadPhase + Sync>(
     };
     work.next_warm.clear();
     work.constraints.clear();
-    // By reference: most pairs are boxes that meet without the grains touching, and moving
-    // each answer out by value copied its empty constraint too (6% of a settled heap's step).
+    // In the pairs' order; the manifolds anchored here, one constraint each.
     for (&(i, j, _), answer) in work.pairs.iter().zip(&found) {
         let (manifold, warm) = answer.as_ref().expect("not stopped");
         if let Some(w) = warm {
