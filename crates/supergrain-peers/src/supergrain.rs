@@ -22,6 +22,7 @@ pub const SOFT: &str = "supergrain-soft";
 fn soft_settings(s: &mut Settings) {
     s.model = Model::Soft;
     s.soft = SoftSettings::default();
+    s.sleep_radius = Settings::soft().sleep_radius;
 }
 
 /// A heap stepped by the soft model (the grains at rest, with the default material).
@@ -54,6 +55,8 @@ pub fn soft_world(heap: &World) -> World {
 pub fn paper_scene(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     s.settings.model = Model::Paper;
+    // The file says no model, so it was read with the soft model's defaults.
+    s.settings.sleep_radius = Settings::default().sleep_radius;
     s.spawn_rule = SpawnRule::Queue;
     s
 }

@@ -12,7 +12,7 @@ use supergrain::measure::repose::{self, Pour};
 use supergrain::measure::{Disk, packing};
 use supergrain::shape::{Pose, Superellipse};
 use supergrain::solver::soft::Material;
-use supergrain::solver::{Body, Model, Settings, Walls};
+use supergrain::solver::{Body, Settings, Walls};
 use supergrain::world::{Queue, World};
 
 fn window(x0: f64, y0: f64, x1: f64, y1: f64) -> Aabb {
@@ -194,10 +194,7 @@ fn a_frictionless_bidisperse_heap_packs_near_random_close_packing() {
             Body::at_rest(shape, &Pose::new(d.center, 0.0).unwrap())
         })
         .collect();
-    let settings = Settings {
-        model: Model::Soft,
-        ..Settings::default()
-    };
+    let settings = Settings::soft();
     let walls = Walls {
         left: -half,
         right: half,

@@ -325,7 +325,7 @@ fn a_pyramid_of_twenty_blocks_stands() {
     }
     assert_eq!(bodies.len(), 20);
     let sleeping = Settings {
-        sleep_radius: Settings::default().sleep_radius,
+        sleep_radius: Settings::soft().sleep_radius,
         ..soft()
     };
     for settings in [soft(), sleeping] {

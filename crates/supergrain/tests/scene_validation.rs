@@ -86,6 +86,24 @@ fn sleeping_after_no_calm_step_is_refused() {
     ));
 }
 
+/// The soft model sleeps a grain that stays within its slop (0.005) of one point; the paper's
+/// keeps its 0.002, so that its presets run as before; a file's own value wins over both.
+#[test]
+fn the_sleep_radius_defaults_by_model_and_a_given_one_is_kept() {
+    let radius = |solver: &str| {
+        accepted(&scene(10.0, solver, "count = 5\nradius = 0.3"))
+            .settings
+            .sleep_radius
+    };
+    assert_eq!(radius(""), 0.005);
+    assert_eq!(radius("model = \"soft\""), 0.005);
+    assert_eq!(radius("model = \"paper\""), 0.002);
+    assert_eq!(radius("sleep_radius = 0.003"), 0.003);
+    assert_eq!(radius("model = \"paper\"\nsleep_radius = 0.003"), 0.003);
+    assert_eq!(Settings::soft().sleep_radius, 0.005);
+    assert_eq!(Settings::default().sleep_radius, 0.002);
+}
+
 #[test]
 fn a_third_semi_axis_or_exponent_is_an_error_naming_the_field_and_line() {
     let text = scene(10.0, "", "count = 5\nsemi_axes = [0.3, 0.4, 0.5]");

@@ -32,7 +32,7 @@ use super::Disk;
 use crate::geometry::Vec2;
 use crate::shape::{Pose, Superellipse};
 use crate::solver::soft::Material;
-use crate::solver::{Body, Model, Settings, Walls};
+use crate::solver::{Body, Settings, Walls};
 use crate::world::{Queue, World};
 
 /// The pour's parameters (see the module docs). The floor is at `y = 0`, the source over
@@ -285,14 +285,13 @@ pub fn angle(disks: &[Disk], floor: f64, axis: f64, bin: f64) -> Option<Repose> 
 }
 
 /// A world of the soft step for `pour`: its box, gravity and time step, Box2D's settings
-/// otherwise (4 substeps, the soft contact's defaults, sleeping as the scenes have it), and
+/// otherwise (4 substeps, the soft contact's defaults, sleeping as the soft model's scenes have it), and
 /// `material` for the grains and the walls alike.
 pub fn world(pour: &Pour, material: Material) -> World {
     let settings = Settings {
-        model: Model::Soft,
         step: pour.time_step,
         gravity: pour.gravity,
-        ..Settings::default()
+        ..Settings::soft()
     };
     let mut w = World::from_parts(Vec::new(), pour.walls(), settings, 0, 0.0, Queue::default());
     w.materials = vec![material];

@@ -259,6 +259,17 @@ impl Scene {
                 format!("solver: damping must be in [0, 1), got {}", d.get_ref()),
             ));
         }
+        // A scene file that does not say gets the rigid-body solver (issue 18); the presets,
+        // and `Settings::default()` for programs, keep the paper's.
+        let model = match s.model {
+            None => Model::Soft,
+            Some(ModelSpec::Paper) => Model::Paper,
+            Some(ModelSpec::Soft) => Model::Soft,
+        };
+        let defaults = match model {
+            Model::Soft => Settings::soft(),
+            Model::Paper => defaults,
+        };
         let mut settings = Settings {
             step: s.step.map_or(defaults.step, |v| v.0),
             damping: s
@@ -285,13 +296,7 @@ impl Scene {
             },
             // Set below, from the groups unless given.
             strip_width: 0.0,
-            // A scene file that does not say gets the rigid-body solver (issue 18); the
-            // presets, and `Settings::default()` for programs, keep the paper's.
-            model: match s.model {
-                None => Model::Soft,
-                Some(ModelSpec::Paper) => Model::Paper,
-                Some(ModelSpec::Soft) => Model::Soft,
-            },
+            model,
             soft: {
                 let d = defaults.soft;
                 SoftSettings {
