@@ -41,7 +41,7 @@ pub enum ShapesArg {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum EngineArg {
-    /// supergrain with the paper's model (the scenes' own).
+    /// supergrain with the paper's model (the scenes' own until scene files defaulted to the soft one).
     Supergrain,
     /// supergrain with the rigid-body soft step (`model = "soft"`, Box2D's materials).
     Soft,

@@ -18,7 +18,8 @@ pub const NAME: &str = "supergrain";
 pub const SOFT: &str = "supergrain-soft";
 
 /// The soft step's settings in place of the paper's: Box2D's defaults (4 substeps, friction 0.6,
-/// density 1, no damping), the same time step.
+/// density 1, no damping), the same time step, and the soft model's sleep radius (the built-in
+/// scenes set none; a radius a scene set would be replaced).
 fn soft_settings(s: &mut Settings) {
     s.model = Model::Soft;
     s.soft = SoftSettings::default();
@@ -55,7 +56,8 @@ pub fn soft_world(heap: &World) -> World {
 pub fn paper_scene(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     s.settings.model = Model::Paper;
-    // The file says no model, so it was read with the soft model's defaults.
+    // The built-in files say no model, so they were read with the soft model's defaults; the
+    // paper's radius replaces the soft one (a radius a scene set would be replaced too).
     s.settings.sleep_radius = Settings::default().sleep_radius;
     s.spawn_rule = SpawnRule::Queue;
     s

@@ -166,7 +166,9 @@ pub struct Settings {
     /// (a contact within a final cell of touching flickers between found and not found, so a
     /// grain sinks `g h^2` and is pushed back, about every other step; with stars' spikes
     /// thinner than a cell this never stops). A sleeper holds its neighbours as a wall does,
-    /// and is neither moved nor tested itself.
+    /// and is neither moved nor tested itself. The paper model's default is 0.002; the soft
+    /// model's, [`SOFT_SLEEP_RADIUS`] (0.005): build its settings with [`Settings::soft`], not
+    /// `Settings { model: Model::Soft, ..Settings::default() }`, which keeps the paper's.
     pub sleep_radius: f64,
     pub sleep_steps: u32,
     /// End each step with a shock-propagation sweep from the floor up (our addition; see
@@ -214,10 +216,11 @@ impl Default for Settings {
 
 /// The soft model's default sleep radius: its slop, 2.5 times the paper model's 0.002. A grain
 /// that drifts less than the overlap every contact keeps (`slop`) in `sleep_steps` steps is at
-/// rest. Measured on the mixed 1,000-grain pour with Box2D's materials (docs/physics.md): at
-/// 0.002, 115 of 996 grains slept at step 1,200 though 813 were slower than the rest bar, the
-/// step cost as much as a heap with every grain awake, and the pour rested after 1,369-2,538
-/// steps over six seeds; at 0.005 it rests after 1,633-1,766 steps in 30-50% less time.
+/// rest. Measured on the mixed 1,000-grain pour with Box2D's materials (docs/physics.md, "The
+/// soft model's sleep radius"): at 0.002, 115 of 996 grains slept at step 1,200 though 813 were
+/// slower than the rest bar, the late steps cost as much as a heap with every grain awake, and
+/// six seeds rested after 1,905-3,832 steps (5.7-10.3 s); at 0.005 after 1,540-1,746 steps
+/// (3.0-3.2 s), and the scene's own seed in 2.84 s against 4.52.
 pub const SOFT_SLEEP_RADIUS: f64 = 0.005;
 
 impl Settings {
