@@ -434,3 +434,68 @@ fn the_stress_of_a_column_at_rest_is_its_weight_on_its_contacts() {
     );
     assert_eq!(paper.stress(), None);
 }
+
+/// Sleeping by the soft model's radius (0.005, [`Settings::soft`]) holds nothing up: a disk
+/// asleep in the hollow of two sleeping disks wakes and sinks when the left one creeps away,
+/// by less than the radius a step (0.003). The top disk is frictionless against the two (its
+/// friction is 0, and friction mixes by the geometric mean), so that nothing but their surfaces
+/// can hold it: resting on them, its centre is at most `r + sqrt(4 r^2 - (d / 2)^2)` high for
+/// their final distance `d`; a sleeper left in the air would stay 0.3 above that. The two
+/// below hold to the floor (friction 0.6, rolling resistance 1).
+#[test]
+fn a_soft_sleeper_wakes_when_its_support_creeps_away() {
+    let r: f64 = 0.5;
+    // A hair apart, so that the two below rest without pushing on each other.
+    let x = r + 0.005;
+    let top = r + (4.0 * r * r - x * x).sqrt();
+    let rough = Material {
+        friction: 0.6,
+        rolling_resistance: 1.0,
+        ..Material::default()
+    };
+    let smooth = Material {
+        friction: 0.0,
+        restitution: 0.0,
+        rolling_resistance: 0.0,
+        ..Material::default()
+    };
+    let settings = Settings::soft();
+    assert_eq!(settings.sleep_radius, 0.005);
+    let mut w = world(
+        vec![grain(disk(r), -x, r, 0.0), grain(disk(r), x, r, 0.0)],
+        far_walls(),
+        vec![rough, smooth],
+        settings,
+    );
+    w.wall_material = rough;
+    for _ in 0..settings.sleep_steps + 50 {
+        w.step();
+    }
+    let mut above = grain(disk(r), 0.0, top, 0.0);
+    above.group = 1;
+    w.bodies.push(above);
+    for _ in 0..settings.sleep_steps + 50 {
+        w.step();
+    }
+    assert_eq!(w.asleep(), 3, "all three should sleep first");
+    let start = w.bodies[2].center;
+    assert!((start.y - top).abs() < 0.02, "top disk at {start:?}");
+    let creep = 0.003;
+    assert!(creep < settings.sleep_radius);
+    w.bodies[0].calm = 0;
+    for _ in 0..300 {
+        w.bodies[0].velocity = Vec2::new(-creep / settings.step, 0.0);
+        w.step();
+    }
+    for _ in 0..300 {
+        w.step();
+    }
+    let d = (w.bodies[1].center - w.bodies[0].center).norm();
+    assert!(d > 2.0 * x + 0.5, "the left disk crept {d}");
+    let highest = r + (4.0 * r * r - 0.25 * d * d).max(0.0).sqrt();
+    let y = w.bodies[2].center.y;
+    assert!(
+        y <= highest + 0.02,
+        "the top disk stayed at {y}, above the {highest} the two below can hold it at (apart by {d})"
+    );
+}
