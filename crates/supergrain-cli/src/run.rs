@@ -68,6 +68,13 @@ pub struct Args {
     /// Override the scene's narrow phase.
     #[arg(long, value_enum)]
     narrow_phase: Option<NarrowPhaseArg>,
+    /// Override the scene's (or the dump's) sleep radius; 0 turns sleeping off and wakes every
+    /// sleeper. A sleeper's contacts keep the forces they had when it fell asleep, so the
+    /// forces of a heap at rest are consistent only with every grain awake: for `--forces` or
+    /// the mean stress at equilibrium, resume the rested dump with `--sleep-radius 0` for a
+    /// few hundred steps.
+    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
+    sleep_radius: Option<f64>,
     /// Write the final state as JSON (restartable with --resume).
     #[arg(long, value_name = "FILE.json")]
     dump: Option<PathBuf>,
@@ -377,6 +384,15 @@ pub fn run(args: Args) -> Result<ExitCode> {
                  {:.4e}; compression negative)",
                 -(sxx + syy) / 2.0
             );
+            let asleep = world.asleep();
+            if asleep > 0 {
+                eprintln!(
+                    "  ({asleep} of {} grains asleep: their contacts keep the forces they had when \
+                     they fell asleep, which need not balance; resume with --sleep-radius 0 for \
+                     a few hundred steps for the forces at equilibrium)",
+                    world.bodies.len()
+                );
+            }
         }
         if let Some((i, at)) = escaped {
             eprintln!(
@@ -450,6 +466,13 @@ const LOG_SECONDS: f64 = 30.0;
 /// Steps in a row under --rest-speed that count as rest.
 const REST_STEPS: u64 = 100;
 
+fn non_negative_number(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+        _ => Err(format!("expected a finite number >= 0, got {s}")),
+    }
+}
+
 fn positive_number(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
@@ -474,6 +497,15 @@ fn load(args: &Args) -> Result<(World, u64)> {
         if let Some(n) = narrow {
             world.settings.narrow_phase = n;
         }
+        if let Some(r) = args.sleep_radius {
+            if r > 0.0 && world.settings.sleep_steps == 0 {
+                bail!(
+                    "--sleep-radius {r}: the dump's sleep_steps is 0 (grains would freeze where \
+                     they are); give --sleep-radius 0 or a dump with sleep_steps >= 1"
+                );
+            }
+            world.settings.sleep_radius = r;
+        }
         check_analytic(&world)?;
         return Ok((world, 1000));
     }
@@ -495,6 +527,9 @@ fn load(args: &Args) -> Result<(World, u64)> {
     }
     if let Some(n) = narrow {
         scene.settings.narrow_phase = n;
+    }
+    if let Some(r) = args.sleep_radius {
+        scene.settings.sleep_radius = r;
     }
     scene.validate()?;
     let steps = scene.steps;

@@ -92,6 +92,100 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
     );
 }
 
+/// The walls' vertical forces on the grains in a `--forces` file at `step` (the floor's, and
+/// the side walls' friction: in a box four grains wide they carry a few percent), and the
+/// weight of a dump's grains (density 1, g 9.8).
+fn walls_and_weight(csv: &std::path::Path, step: &str, dump: &std::path::Path) -> (f64, f64) {
+    let text = std::fs::read_to_string(csv).unwrap();
+    let walls_up: f64 = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|r| r[0] == step && !r[4].is_empty())
+        .map(|r| {
+            let f = |k: usize| r[k].parse::<f64>().unwrap();
+            // On the grain: n N + t T, t = (n.y, -n.x).
+            f(8) * f(9) - f(7) * f(10)
+        })
+        .sum();
+    let d: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dump).unwrap()).unwrap();
+    let weight = d["particles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let (s, e) = (&p["semi_axes"], &p["exponents"]);
+            let shape = supergrain::shape::Superellipse::new(
+                [s[0].as_f64().unwrap(), s[1].as_f64().unwrap()],
+                [e[0].as_f64().unwrap(), e[1].as_f64().unwrap()],
+            )
+            .unwrap();
+            shape.area() * 9.8
+        })
+        .sum();
+    (walls_up, weight)
+}
+
+/// A heap that rests by sleeping says that its sleepers' forces are stale, and `--sleep-radius
+/// 0` on resuming it wakes every grain: a few hundred steps later the walls hold the heap's
+/// weight (against an independent reference, the grains' areas).
+#[test]
+fn sleep_radius_zero_on_resume_gives_the_forces_at_equilibrium() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(
+        dir.path(),
+        "sleepy.toml",
+        &SCENE.replace("sleep_radius = 0.0", "sleep_radius = 0.005"),
+    );
+    let rested = dir.path().join("rested.json");
+    let err = ok(&sg(&[
+        "run",
+        p(&scene),
+        "--until-rest",
+        "--steps",
+        "5000",
+        "--dump",
+        p(&rested),
+    ]));
+    assert!(
+        err.contains("grains asleep: their contacts keep the forces"),
+        "{err}"
+    );
+    let csv = dir.path().join("forces.csv");
+    let awake = dir.path().join("awake.json");
+    let err = ok(&sg(&[
+        "run",
+        "--resume",
+        p(&rested),
+        "--sleep-radius",
+        "0",
+        "--steps",
+        "300",
+        "--forces",
+        p(&csv),
+        "--every",
+        "300",
+        "--dump",
+        p(&awake),
+    ]));
+    assert!(!err.contains("grains asleep"), "{err}");
+    let d: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&awake).unwrap()).unwrap();
+    assert_eq!(d["solver"]["sleep_radius"].as_f64(), Some(0.0));
+    let step = d["step"].as_u64().unwrap().to_string();
+    let (walls_up, weight) = walls_and_weight(&csv, &step, &awake);
+    assert!(
+        (walls_up - weight).abs() <= 0.002 * weight,
+        "the walls push up {walls_up}, the heap weighs {weight}"
+    );
+    // A usage error, as clap reports them (exit code 2), naming the option and the bound.
+    let o = sg(&["run", "--resume", p(&rested), "--sleep-radius", "-0.1"]);
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("--sleep-radius") && e.contains(">= 0"), "{e}");
+}
+
 #[test]
 fn forces_need_the_soft_model() {
     let dir = tempfile::tempdir().unwrap();
