@@ -69,7 +69,7 @@ pub struct Args {
     #[arg(long, value_enum)]
     narrow_phase: Option<NarrowPhaseArg>,
     /// Override the scene's (or the dump's) sleep radius; 0 turns sleeping off and wakes every
-    /// sleeper. A sleeper's contacts keep the forces they had when it fell asleep, so the
+    /// sleeper. A radius other than the dump's starts every grain's calm count afresh. A sleeper's contacts keep the forces they had when it fell asleep, so the
     /// forces of a heap at rest are consistent only with every grain awake: for `--forces` or
     /// the mean stress at equilibrium, resume the rested dump with `--sleep-radius 0` for a
     /// few hundred steps.
@@ -481,6 +481,8 @@ fn positive_number(s: &str) -> Result<f64, String> {
 }
 
 fn load(args: &Args) -> Result<(World, u64)> {
+    // `+ 0.0`: -0 is 0 (and is written so in dumps).
+    let sleep_radius = args.sleep_radius.map(|r| r + 0.0);
     let narrow = args.narrow_phase.map(|n| match n {
         NarrowPhaseArg::Interval => NarrowPhase::Interval,
         NarrowPhaseArg::Quadtree => NarrowPhase::Quadtree,
@@ -489,22 +491,36 @@ fn load(args: &Args) -> Result<(World, u64)> {
     if let Some(path) = &args.resume {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read dump {}", path.display()))?;
-        let dump = Dump::from_json(&text)
+        let mut dump = Dump::from_json(&text)
             .with_context(|| format!("{} is not a supergrain dump", path.display()))?;
+        // The radius is overridden before the dump is checked, so that `--sleep-radius 0` turns
+        // off the sleeping of a dump whose `sleep_steps` is 0.
+        let before = dump.solver.as_ref().map(|s| s.sleep_radius);
+        if let (Some(r), Some(solver)) = (sleep_radius, dump.solver.as_mut()) {
+            if r > 0.0 && solver.sleep_steps == 0 {
+                bail!(
+                    "--sleep-radius {r}: the dump's sleep_steps is 0 (grains would freeze where \
+                     they are); give --sleep-radius 0 or a dump with sleep_steps >= 1"
+                );
+            }
+            solver.sleep_radius = r;
+        }
         let mut world = dump
             .to_world()
             .with_context(|| format!("cannot resume from {}", path.display()))?;
         if let Some(n) = narrow {
             world.settings.narrow_phase = n;
         }
-        if let Some(r) = args.sleep_radius {
-            if r > 0.0 && world.settings.sleep_steps == 0 {
-                bail!(
-                    "--sleep-radius {r}: the dump's sleep_steps is 0 (grains would freeze where \
-                     they are); give --sleep-radius 0 or a dump with sleep_steps >= 1"
-                );
-            }
+        if let Some(r) = sleep_radius {
             world.settings.sleep_radius = r;
+            // A new radius starts every grain's calm afresh: the counts and anchors of the
+            // old rule would put grains back to sleep at once, falling or not.
+            if before != Some(r) {
+                for b in &mut world.bodies {
+                    b.calm = 0;
+                    b.anchor = b.center;
+                }
+            }
         }
         check_analytic(&world)?;
         return Ok((world, 1000));
@@ -528,7 +544,13 @@ fn load(args: &Args) -> Result<(World, u64)> {
     if let Some(n) = narrow {
         scene.settings.narrow_phase = n;
     }
-    if let Some(r) = args.sleep_radius {
+    if let Some(r) = sleep_radius {
+        if r > 0.0 && scene.settings.sleep_steps == 0 {
+            bail!(
+                "--sleep-radius {r}: the scene's sleep_steps is 0 (grains would freeze where they \
+                 appear); give --sleep-radius 0 or set sleep_steps >= 1 in the scene"
+            );
+        }
         scene.settings.sleep_radius = r;
     }
     scene.validate()?;

@@ -179,6 +179,49 @@ fn sleep_radius_zero_on_resume_gives_the_forces_at_equilibrium() {
         (walls_up - weight).abs() <= 0.002 * weight,
         "the walls push up {walls_up}, the heap weighs {weight}"
     );
+    // The new radius starts every grain's calm afresh: sleeping turned back on, the awake heap
+    // does not fall asleep at once on the old counts.
+    let err = ok(&sg(&[
+        "run",
+        "--resume",
+        p(&awake),
+        "--sleep-radius",
+        "0.005",
+        "--steps",
+        "1",
+    ]));
+    assert!(!err.contains("grains asleep"), "{err}");
+    // `--sleep-radius 0` turns off the sleeping of a dump whose `sleep_steps` is 0, which is
+    // otherwise refused; a positive radius on it is refused naming the flag.
+    let mut d = d;
+    d["solver"]["sleep_steps"] = serde_json::json!(0);
+    d["solver"]["sleep_radius"] = serde_json::json!(0.005);
+    let steps0 = dir.path().join("steps0.json");
+    std::fs::write(&steps0, d.to_string()).unwrap();
+    ok(&sg(&[
+        "run",
+        "--resume",
+        p(&steps0),
+        "--sleep-radius",
+        "0",
+        "--steps",
+        "1",
+    ]));
+    let e = failed(&sg(&["run", "--resume", p(&steps0), "--steps", "1"]));
+    assert!(e.contains("sleep_steps"), "{e}");
+    let e = failed(&sg(&[
+        "run",
+        "--resume",
+        p(&steps0),
+        "--sleep-radius",
+        "0.01",
+        "--steps",
+        "1",
+    ]));
+    assert!(
+        e.contains("--sleep-radius 0.01") && e.contains("sleep_steps is 0"),
+        "{e}"
+    );
     // A usage error, as clap reports them (exit code 2), naming the option and the bound.
     let o = sg(&["run", "--resume", p(&rested), "--sleep-radius", "-0.1"]);
     let e = stderr(&o);
