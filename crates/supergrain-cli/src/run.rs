@@ -69,10 +69,11 @@ pub struct Args {
     #[arg(long, value_enum)]
     narrow_phase: Option<NarrowPhaseArg>,
     /// Override the scene's (or the dump's) sleep radius; 0 turns sleeping off and wakes every
-    /// sleeper. A radius other than the dump's starts every grain's calm count afresh. A sleeper's contacts keep the forces they had when it fell asleep, so the
-    /// forces of a heap at rest are consistent only with every grain awake: for `--forces` or
-    /// the mean stress at equilibrium, resume the rested dump with `--sleep-radius 0` for a
-    /// few hundred steps.
+    /// sleeper. A radius other than the dump's starts every grain's calm count afresh. Sleeping
+    /// grain by grain (the default), a sleeper's contacts keep the forces they had when it fell
+    /// asleep, which need not balance: for `--forces` or the mean stress at equilibrium, resume
+    /// the rested dump with `--sleep-radius 0` for a few hundred steps, or sleep by islands
+    /// (`sleep_islands = true` in the scene), whose forces balance.
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
     sleep_radius: Option<f64>,
     /// Write the final state as JSON (restartable with --resume).
@@ -385,11 +386,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 -(sxx + syy) / 2.0
             );
             let asleep = world.asleep();
-            if asleep > 0 {
+            if asleep > 0 && !world.settings.sleep_islands {
                 eprintln!(
-                    "  ({asleep} of {} grains asleep: their contacts keep the forces they had when \
-                     they fell asleep, which need not balance; resume with --sleep-radius 0 for \
-                     a few hundred steps for the forces at equilibrium)",
+                    "  ({asleep} of {} grains asleep, grain by grain: their contacts keep the \
+                     forces they had when they fell asleep, which need not balance; for the \
+                     forces at equilibrium, resume with --sleep-radius 0 for a few hundred \
+                     steps, or sleep by islands: sleep_islands = true)",
                     world.bodies.len()
                 );
             }

@@ -104,6 +104,25 @@ fn the_sleep_radius_defaults_by_model_and_a_given_one_is_kept() {
     assert_eq!(Settings::default().sleep_radius, 0.002);
 }
 
+/// Sleeping by islands is the soft model's: off by default, and refused with the paper's model,
+/// naming the field.
+#[test]
+fn sleep_islands_is_off_by_default_and_needs_the_soft_model() {
+    let group = "count = 5\nradius = 0.3";
+    assert!(!accepted(&scene(10.0, "", group)).settings.sleep_islands);
+    assert!(
+        accepted(&scene(10.0, "sleep_islands = true", group))
+            .settings
+            .sleep_islands
+    );
+    let e = refused(&scene(
+        10.0,
+        "model = \"paper\"\nsleep_islands = true",
+        group,
+    ));
+    assert!(e.contains("sleep_islands") && e.contains("soft"), "{e}");
+}
+
 #[test]
 fn a_third_semi_axis_or_exponent_is_an_error_naming_the_field_and_line() {
     let text = scene(10.0, "", "count = 5\nsemi_axes = [0.3, 0.4, 0.5]");

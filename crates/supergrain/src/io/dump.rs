@@ -234,6 +234,9 @@ pub struct SolverJson {
     pub sleep_radius: f64,
     #[serde(default)]
     pub sleep_steps: u32,
+    /// Sleeping by islands; absent when off (and in dumps older than it).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub sleep_islands: bool,
     /// Absent in dumps older than shock propagation: the closing sweeps they were run with.
     #[serde(default)]
     pub shock_propagation: bool,
@@ -364,6 +367,7 @@ impl Dump {
                 slop: s.slop,
                 sleep_radius: s.sleep_radius,
                 sleep_steps: s.sleep_steps,
+                sleep_islands: s.sleep_islands,
                 shock_propagation: s.shock_propagation,
                 strip_width: s.strip_width,
                 depth: s.precision.depth(),
@@ -462,6 +466,7 @@ impl Dump {
                 slop: non_negative("slop", s.slop)?,
                 sleep_radius: non_negative("sleep_radius", s.sleep_radius)?,
                 sleep_steps: s.sleep_steps,
+                sleep_islands: s.sleep_islands,
                 shock_propagation: s.shock_propagation,
                 strip_width: non_negative("strip_width", s.strip_width)?,
                 precision: Precision::new(s.depth, s.eps)

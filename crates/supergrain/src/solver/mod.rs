@@ -171,6 +171,10 @@ pub struct Settings {
     /// `Settings { model: Model::Soft, ..Settings::default() }`, which keeps the paper's.
     pub sleep_radius: f64,
     pub sleep_steps: u32,
+    /// Sleep by islands (soft model only): touching grains fall asleep together, when all are
+    /// calm, and wake together (see the soft step's `update_sleep_islands`). Off by default: a
+    /// heap is one island, which sleeps only when all of it rests.
+    pub sleep_islands: bool,
     /// End each step with a shock-propagation sweep from the floor up (our addition; see
     /// [`shock_sweep`]) instead of two closing relaxation sweeps over all grains. Off by default:
     /// the paper's small scenes rest without it; deep heaps (the 1,000-grain pour, twenty layers)
@@ -202,6 +206,7 @@ impl Default for Settings {
             slop: 0.005,
             sleep_radius: 0.002,
             sleep_steps: 100,
+            sleep_islands: false,
             shock_propagation: false,
             precision: Precision::default(),
             rotation: Rotation::Projection,

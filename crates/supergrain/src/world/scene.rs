@@ -270,6 +270,17 @@ impl Scene {
             Model::Soft => Settings::soft(),
             Model::Paper => defaults,
         };
+        if let Some(islands) = &s.sleep_islands
+            && *islands.get_ref()
+            && model != Model::Soft
+        {
+            return Err(invalid(
+                islands.span(),
+                "solver: sleep_islands needs model = \"soft\" (the paper's model sleeps grain \
+                 by grain)"
+                    .into(),
+            ));
+        }
         let mut settings = Settings {
             step: s.step.map_or(defaults.step, |v| v.0),
             damping: s
@@ -281,6 +292,10 @@ impl Scene {
             slop: s.slop.map_or(defaults.slop, |v| v.0),
             sleep_radius: s.sleep_radius.map_or(defaults.sleep_radius, |v| v.0),
             sleep_steps: s.sleep_steps.unwrap_or(defaults.sleep_steps),
+            sleep_islands: s
+                .sleep_islands
+                .as_ref()
+                .map_or(defaults.sleep_islands, |v| *v.get_ref()),
             shock_propagation: s.shock_propagation.unwrap_or(defaults.shock_propagation),
             precision: Precision::new(depth, s.eps.map_or(0.0, |v| v.0))
                 .map_err(|e| invalid(0..0, format!("solver: {e}")))?,
@@ -577,6 +592,7 @@ struct SolverSpec {
     slop: Option<NonNegative>,
     sleep_radius: Option<NonNegative>,
     sleep_steps: Option<u32>,
+    sleep_islands: Option<toml::Spanned<bool>>,
     shock_propagation: Option<bool>,
     strip_width: Option<NonNegative>,
     depth: Option<toml::Spanned<u32>>,
