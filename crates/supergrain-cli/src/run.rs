@@ -386,7 +386,15 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 -(sxx + syy) / 2.0
             );
             let asleep = world.asleep();
-            if asleep > 0 && !world.settings.sleep_islands {
+            if asleep > 0 && world.settings.sleep_islands && args.resume.is_some() {
+                eprintln!(
+                    "  ({asleep} of {} grains asleep: a dump does not keep the forces of the \
+                     contacts that slept through it, so the stress leaves out those that have \
+                     not woken since; run from the scene, or resume with --sleep-radius 0 for a \
+                     few hundred steps)",
+                    world.bodies.len()
+                );
+            } else if asleep > 0 && !world.settings.sleep_islands {
                 eprintln!(
                     "  ({asleep} of {} grains asleep, grain by grain: their contacts keep the \
                      forces they had when they fell asleep, which need not balance; for the \

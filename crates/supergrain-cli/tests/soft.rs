@@ -557,4 +557,55 @@ fn a_heap_asleep_by_islands_reports_forces_that_balance() {
         "-q",
     ]));
     assert_eq!(read_bytes(&one), read_bytes(&dump), "one thread and two");
+    // A run resumed from a dump goes on bit for bit: the islands' links are the kept contacts,
+    // which dumps hold. Ten grains, one every 150 steps: the heap falls asleep between them and
+    // each newcomer wakes it (asleep at the cuts: 2 grains of 5 at step 700, 5 of 8 at 1,100, 7
+    // of 10 at 1,400, each woken after).
+    let slow = write_scene(
+        dir.path(),
+        "slow.toml",
+        &SCENE
+            .replace(
+                "sleep_radius = 0.0",
+                "sleep_radius = 0.005\nsleep_islands = true",
+            )
+            .replace("interval = 5", "interval = 150")
+            .replace("count = 20", "count = 6")
+            .replace("count = 10", "count = 4"),
+    );
+    let whole = dir.path().join("whole.json");
+    ok(&sg(&[
+        "run",
+        p(&slow),
+        "--steps",
+        "1600",
+        "--dump",
+        p(&whole),
+        "-q",
+    ]));
+    for cut in [700u64, 1100, 1400] {
+        let (half, rest) = (dir.path().join("half.json"), dir.path().join("rest.json"));
+        let steps = cut.to_string();
+        ok(&sg(&[
+            "run",
+            p(&slow),
+            "--steps",
+            &steps,
+            "--dump",
+            p(&half),
+            "-q",
+        ]));
+        let left = (1600 - cut).to_string();
+        ok(&sg(&[
+            "run",
+            "--resume",
+            p(&half),
+            "--steps",
+            &left,
+            "--dump",
+            p(&rest),
+            "-q",
+        ]));
+        assert_eq!(read_bytes(&whole), read_bytes(&rest), "cut at step {cut}");
+    }
 }

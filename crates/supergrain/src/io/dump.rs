@@ -533,6 +533,11 @@ impl Dump {
                 },
             },
         };
+        if settings.sleep_islands && settings.model != Model::Soft {
+            return Err(DumpError::Solver(
+                "sleep_islands needs model = soft (the paper's model sleeps grain by grain)".into(),
+            ));
+        }
         let walls = Walls {
             left: w.left,
             right: w.right,

@@ -356,7 +356,7 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
         constraints,
         start,
         solids,
-        forces: last_forces,
+        kept,
         ..
     } = work;
     start.clear();
@@ -410,7 +410,7 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
         b.angular_velocity = state.solids[i].w;
     }
     if sleeps && settings.sleep_islands {
-        update_sleep_islands(bodies, constraints, awake, last_forces, settings);
+        update_sleep_islands(bodies, constraints, awake, kept, settings);
     } else if sleeps {
         update_sleep(bodies, constraints, awake, settings);
     }
@@ -1000,13 +1000,14 @@ fn update_sleep(bodies: &mut [Body], constraints: &[Constraint], awake: &[bool],
 /// 26 to 162 in 30 steps while neither grain moved), and neighbours fall asleep at different
 /// steps, so the forces of a heap asleep grain by grain need not balance (docs/physics.md).
 ///
-/// `last_forces`: the contacts' forces of the step before, which hold the contacts between
-/// sleepers (not tested while they sleep): the sleeping islands' links.
+/// `kept`: the contacts of the step before (the pairs it tested, and those between sleepers,
+/// which are not tested while they sleep; kept in dumps, so a resumed run goes on the same):
+/// the sleeping islands' links, and links that a contact apart for a step does not break.
 fn update_sleep_islands(
     bodies: &mut [Body],
     constraints: &[Constraint],
     awake: &[bool],
-    last_forces: &[ContactForce],
+    kept: &FxHashMap<PairKey, Kept>,
     s: &Settings,
 ) {
     let n = bodies.len();
@@ -1019,26 +1020,40 @@ fn update_sleep_islands(
             b.calm = b.calm.saturating_add(1);
         }
     }
+    // The grain pairs in contact at the step before (walls' keys are past every grain), in
+    // order: the map's own order depends on its history, which a resumed run does not share.
+    let mut before: Vec<PairKey> = kept
+        .keys()
+        .filter(|&&(i, j)| i < n && j < n)
+        .copied()
+        .collect();
+    before.sort_unstable();
     // A sleeping island touched by an awake grain wakes whole: through the links between
-    // sleepers, from every sleeper an awake grain touches.
+    // sleepers, from every sleeper an awake grain touches now or touched at the step before (a
+    // grain woken from outside, as the viewer's drag does, has left its island's contacts).
     let mut links: Vec<Vec<usize>> = vec![Vec::new(); n];
-    for f in last_forces {
-        if f.a != STATIC && f.a < n && f.b < n && !awake[f.a] && !awake[f.b] {
-            links[f.a].push(f.b);
-            links[f.b].push(f.a);
+    let mut seeds: Vec<usize> = Vec::new();
+    let grain_pairs = constraints
+        .iter()
+        .filter(|c| c.a != STATIC)
+        .map(|c| (c.a, c.b));
+    for (i, j) in before.iter().copied().chain(grain_pairs) {
+        match (awake[i], awake[j]) {
+            (false, false) => {
+                links[i].push(j);
+                links[j].push(i);
+            }
+            (false, true) => seeds.push(i),
+            (true, false) => seeds.push(j),
+            (true, true) => {}
         }
     }
     let mut woken = vec![false; n];
     let mut queue: Vec<usize> = Vec::new();
-    for c in constraints {
-        if c.a == STATIC {
-            continue;
-        }
-        for (me, other) in [(c.a, c.b), (c.b, c.a)] {
-            if !awake[me] && awake[other] && !woken[me] {
-                woken[me] = true;
-                queue.push(me);
-            }
+    for i in seeds {
+        if !woken[i] {
+            woken[i] = true;
+            queue.push(i);
         }
     }
     while let Some(i) = queue.pop() {
@@ -1062,14 +1077,18 @@ fn update_sleep_islands(
         }
         i
     }
-    for c in constraints {
-        if c.a != STATIC {
-            let (ra, rb) = (root(&mut parent, c.a), root(&mut parent, c.b));
+    let active = |i: usize| awake[i] || woken[i];
+    let grain_pairs = constraints
+        .iter()
+        .filter(|c| c.a != STATIC)
+        .map(|c| (c.a, c.b));
+    for (a, b) in grain_pairs.chain(before.iter().copied()) {
+        if active(a) && active(b) {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
             // The smaller index as the root: the same islands whatever the order.
             parent[ra.max(rb)] = ra.min(rb);
         }
     }
-    let active = |i: usize| awake[i] || woken[i];
     let mut calm = vec![true; n];
     for i in (0..n).filter(|&i| active(i)) {
         let r = root(&mut parent, i);
