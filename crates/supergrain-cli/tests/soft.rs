@@ -70,21 +70,7 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
         .sum();
     let heap = std::fs::read_to_string(&dump).unwrap();
     let d: serde_json::Value = serde_json::from_str(&heap).unwrap();
-    let weight: f64 = d["particles"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| {
-            let s = &p["semi_axes"];
-            let e = &p["exponents"];
-            let shape = supergrain::shape::Superellipse::new(
-                [s[0].as_f64().unwrap(), s[1].as_f64().unwrap()],
-                [e[0].as_f64().unwrap(), e[1].as_f64().unwrap()],
-            )
-            .unwrap();
-            shape.area() * 9.8
-        })
-        .sum();
+    let weight: f64 = d["particles"].as_array().unwrap().iter().map(weight).sum();
     assert_eq!(d["particles"].as_array().unwrap().len(), 30);
     assert!(
         (floor_up - weight).abs() <= 0.05 * weight,
@@ -92,39 +78,44 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
     );
 }
 
-/// The walls' vertical forces on the grains in a `--forces` file at `step` (the floor's, and
-/// the side walls' friction: in a box four grains wide they carry a few percent), and the
-/// weight of a dump's grains (density 1, g 9.8).
-fn walls_and_weight(csv: &std::path::Path, step: &str, dump: &std::path::Path) -> (f64, f64) {
-    let text = std::fs::read_to_string(csv).unwrap();
-    let walls_up: f64 = text
+/// The weight of a dumped grain, from its area (density 1, g 9.8).
+fn weight(grain: &serde_json::Value) -> f64 {
+    let (s, e) = (&grain["semi_axes"], &grain["exponents"]);
+    supergrain::shape::Superellipse::new(
+        [s[0].as_f64().unwrap(), s[1].as_f64().unwrap()],
+        [e[0].as_f64().unwrap(), e[1].as_f64().unwrap()],
+    )
+    .unwrap()
+    .area()
+        * 9.8
+}
+
+/// A `--forces` row's force on B (on the grain, for a wall): `n N + t T`, `t = (n.y, -n.x)`; A
+/// feels the opposite.
+fn force_on_b(row: &[String]) -> (f64, f64) {
+    let f = |k: usize| row[k].parse::<f64>().unwrap();
+    (f(7) * f(9) + f(8) * f(10), f(8) * f(9) - f(7) * f(10))
+}
+
+/// The rows of a `--forces` file at `step`.
+fn rows_at(csv: &std::path::Path, step: &str) -> Vec<Vec<String>> {
+    std::fs::read_to_string(csv)
+        .unwrap()
         .lines()
         .skip(1)
-        .map(|l| l.split(',').collect::<Vec<_>>())
-        .filter(|r| r[0] == step && !r[4].is_empty())
-        .map(|r| {
-            let f = |k: usize| r[k].parse::<f64>().unwrap();
-            // On the grain: n N + t T, t = (n.y, -n.x).
-            f(8) * f(9) - f(7) * f(10)
-        })
-        .sum();
-    let d: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dump).unwrap()).unwrap();
-    let weight = d["particles"]
-        .as_array()
-        .unwrap()
+        .map(|l| l.split(',').map(str::to_string).collect::<Vec<_>>())
+        .filter(|r| r[0] == step)
+        .collect()
+}
+
+/// The walls' vertical forces on the grains in a `--forces` file at `step` (the floor's, and
+/// the side walls' friction: in a box four grains wide they carry a few percent).
+fn walls_up(csv: &std::path::Path, step: &str) -> f64 {
+    rows_at(csv, step)
         .iter()
-        .map(|p| {
-            let (s, e) = (&p["semi_axes"], &p["exponents"]);
-            let shape = supergrain::shape::Superellipse::new(
-                [s[0].as_f64().unwrap(), s[1].as_f64().unwrap()],
-                [e[0].as_f64().unwrap(), e[1].as_f64().unwrap()],
-            )
-            .unwrap();
-            shape.area() * 9.8
-        })
-        .sum();
-    (walls_up, weight)
+        .filter(|r| !r[4].is_empty())
+        .map(|r| force_on_b(r).1)
+        .sum()
 }
 
 /// A heap that rests by sleeping says that its sleepers' forces are stale, and `--sleep-radius
@@ -174,7 +165,8 @@ fn sleep_radius_zero_on_resume_gives_the_forces_at_equilibrium() {
         serde_json::from_str(&std::fs::read_to_string(&awake).unwrap()).unwrap();
     assert_eq!(d["solver"]["sleep_radius"].as_f64(), Some(0.0));
     let step = d["step"].as_u64().unwrap().to_string();
-    let (walls_up, weight) = walls_and_weight(&csv, &step, &awake);
+    let walls_up = walls_up(&csv, &step);
+    let weight: f64 = d["particles"].as_array().unwrap().iter().map(weight).sum();
     assert!(
         (walls_up - weight).abs() <= 0.002 * weight,
         "the walls push up {walls_up}, the heap weighs {weight}"
@@ -504,18 +496,8 @@ fn a_heap_asleep_by_islands_reports_forces_that_balance() {
     assert_eq!(asleep, grains.len(), "every grain asleep at rest");
     let step = d["step"].as_u64().unwrap().to_string();
     let mut net = vec![(0.0f64, 0.0f64); grains.len()];
-    let text = std::fs::read_to_string(&csv).unwrap();
-    for r in text
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect::<Vec<_>>())
-    {
-        if r[0] != step {
-            continue;
-        }
-        let f = |k: usize| r[k].parse::<f64>().unwrap();
-        // On B (the grain, for a wall): n N + t T, t = (n.y, -n.x); A feels the opposite.
-        let (fx, fy) = (f(7) * f(9) + f(8) * f(10), f(8) * f(9) - f(7) * f(10));
+    for r in rows_at(&csv, &step) {
+        let (fx, fy) = force_on_b(&r);
         let a: usize = r[2].parse().unwrap();
         if r[4].is_empty() {
             let b: usize = r[3].parse().unwrap();
@@ -529,14 +511,7 @@ fn a_heap_asleep_by_islands_reports_forces_that_balance() {
         }
     }
     for (i, (g, (fx, fy))) in grains.iter().zip(&net).enumerate() {
-        let (s, e) = (&g["semi_axes"], &g["exponents"]);
-        let weight = supergrain::shape::Superellipse::new(
-            [s[0].as_f64().unwrap(), s[1].as_f64().unwrap()],
-            [e[0].as_f64().unwrap(), e[1].as_f64().unwrap()],
-        )
-        .unwrap()
-        .area()
-            * 9.8;
+        let weight = weight(g);
         let off = fx.hypot(fy - weight);
         assert!(
             off <= 1e-3 * weight,

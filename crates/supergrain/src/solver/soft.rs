@@ -963,16 +963,11 @@ fn restitution(constraints: &mut [Constraint], s: &mut State, soft: &SoftSetting
 /// Without it, a pyramid of twenty blocks crept 0.5 mm/s (the sequential solve leaves a little
 /// tangential velocity at every substep; `tests/mechanics.rs`).
 fn update_sleep(bodies: &mut [Body], constraints: &[Constraint], awake: &[bool], s: &Settings) {
+    count_calm(bodies, awake, s);
     for (b, _) in bodies.iter_mut().zip(awake).filter(|(_, a)| **a) {
-        if (b.center - b.anchor).norm() > s.sleep_radius {
-            b.anchor = b.center;
-            b.calm = 0;
-        } else {
-            b.calm = b.calm.saturating_add(1);
-            if b.calm >= s.sleep_steps {
-                b.velocity = Vec2::ZERO;
-                b.angular_velocity = 0.0;
-            }
+        if b.calm >= s.sleep_steps {
+            b.velocity = Vec2::ZERO;
+            b.angular_velocity = 0.0;
         }
     }
     // A sleeper touched by a grain that moved wakes (and wakes its own neighbours in turn if
@@ -987,6 +982,19 @@ fn update_sleep(bodies: &mut [Body], constraints: &[Constraint], awake: &[bool],
                 b.calm = 0;
                 b.anchor = b.center;
             }
+        }
+    }
+}
+
+/// Each awake grain's calm count: one more step within `sleep_radius` of its anchor, or 0 and a
+/// new anchor where it is.
+fn count_calm(bodies: &mut [Body], awake: &[bool], s: &Settings) {
+    for (b, _) in bodies.iter_mut().zip(awake).filter(|(_, a)| **a) {
+        if (b.center - b.anchor).norm() > s.sleep_radius {
+            b.anchor = b.center;
+            b.calm = 0;
+        } else {
+            b.calm = b.calm.saturating_add(1);
         }
     }
 }
@@ -1011,33 +1019,28 @@ fn update_sleep_islands(
     s: &Settings,
 ) {
     let n = bodies.len();
-    // Calm counts, as grain by grain.
-    for (b, _) in bodies.iter_mut().zip(awake).filter(|(_, a)| **a) {
-        if (b.center - b.anchor).norm() > s.sleep_radius {
-            b.anchor = b.center;
-            b.calm = 0;
-        } else {
-            b.calm = b.calm.saturating_add(1);
-        }
-    }
+    count_calm(bodies, awake, s);
     // The grain pairs in contact at the step before (walls' keys are past every grain), in
-    // order: the map's own order depends on its history, which a resumed run does not share.
-    let mut before: Vec<PairKey> = kept
+    // order (the map's own order depends on its history, which a resumed run does not share),
+    // then this step's.
+    let mut pairs: Vec<PairKey> = kept
         .keys()
         .filter(|&&(i, j)| i < n && j < n)
         .copied()
         .collect();
-    before.sort_unstable();
+    pairs.sort_unstable();
+    pairs.extend(
+        constraints
+            .iter()
+            .filter(|c| c.a != STATIC)
+            .map(|c| (c.a, c.b)),
+    );
     // A sleeping island touched by an awake grain wakes whole: through the links between
     // sleepers, from every sleeper an awake grain touches now or touched at the step before (a
     // grain woken from outside, as the viewer's drag does, has left its island's contacts).
     let mut links: Vec<Vec<usize>> = vec![Vec::new(); n];
     let mut seeds: Vec<usize> = Vec::new();
-    let grain_pairs = constraints
-        .iter()
-        .filter(|c| c.a != STATIC)
-        .map(|c| (c.a, c.b));
-    for (i, j) in before.iter().copied().chain(grain_pairs) {
+    for &(i, j) in &pairs {
         match (awake[i], awake[j]) {
             (false, false) => {
                 links[i].push(j);
@@ -1067,8 +1070,8 @@ fn update_sleep_islands(
             }
         }
     }
-    // The awake islands (grains joined by this step's contacts), and whether each is calm
-    // throughout: its grains fall asleep together, or none does.
+    // The awake islands (grains joined by the contacts of this step and the step before), and
+    // whether each is calm throughout: its grains fall asleep together, or none does.
     let mut parent: Vec<usize> = (0..n).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
@@ -1078,11 +1081,7 @@ fn update_sleep_islands(
         i
     }
     let active = |i: usize| awake[i] || woken[i];
-    let grain_pairs = constraints
-        .iter()
-        .filter(|c| c.a != STATIC)
-        .map(|c| (c.a, c.b));
-    for (a, b) in grain_pairs.chain(before.iter().copied()) {
+    for &(a, b) in &pairs {
         if active(a) && active(b) {
             let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
             // The smaller index as the root: the same islands whatever the order.
