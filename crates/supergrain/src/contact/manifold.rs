@@ -21,6 +21,7 @@
 //! overlap has several regions (stars) get the region of the deepest points here; issue 19
 //! reports every region.
 
+use super::certified::radial_to_boundary;
 use super::{Penetration, WallPenetration};
 use crate::geometry::Vec2;
 use crate::shape::{HalfPlane, Pose, Superellipse};
@@ -126,10 +127,31 @@ impl Manifold {
 }
 
 /// The separation of `q` from a shape, to first order: `f / |grad f|`.
+///
+/// Except next to a star's axis, outside: its term `|t|^e`, `e < 1`, has a slope there that
+/// grows without bound, so `f / |grad f|` is near 0 however far `q` lies beyond the spike. In
+/// `pour-mixed.toml` (800 steps) 0.26% of the stars' regions were such points, 0.1 to 0.15
+/// from the other grain (5 to 7 margins, half a grain), reported within the margin: contacts
+/// where the grains did not touch. Where the first-order step to the boundary would cross such
+/// an axis, the distance along the ray from the shape's centre replaces it (beyond a spike the
+/// nearest boundary point is its tip, on that ray).
 fn separation(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     let (f, g) = s.value_and_gradient(pose, q);
     let len = g.norm();
-    if len > 0.0 { f / len } else { f64::INFINITY }
+    if !(len > 0.0) {
+        return f64::INFINITY;
+    }
+    let [ex, ey] = s.exponents();
+    if f > 0.0 && (ex < 1.0 || ey < 1.0) {
+        let local = pose.to_local(q);
+        let step = pose.rotation().apply_inverse(g) * (f / (len * len));
+        let crosses = (ex < 1.0 && step.x.abs() >= local.x.abs())
+            || (ey < 1.0 && step.y.abs() >= local.y.abs());
+        if crosses && let Some(b) = radial_to_boundary(s, local) {
+            return (local - b).norm();
+        }
+    }
+    f / len
 }
 
 /// `|t|^e` in single precision. A manifold's points are where the solver pushes, found by
@@ -527,9 +549,52 @@ fn patch(
 
 #[cfg(test)]
 mod tests {
-    use super::super::certified::radial_to_boundary;
     use super::*;
     use proptest::prelude::*;
+
+    /// The distance from `q` to the boundary of the placed shape, by dense sampling: the
+    /// independent reference.
+    fn sampled_distance(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
+        s.boundary_polygon(pose, 200_000)
+            .iter()
+            .map(|&b| (b - q).norm())
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Beyond a star's spike, next to its axis, the separation is the distance to the tip
+    /// (sampled), where `f / |grad f|` alone reads nearly 0: the points of `pour-mixed.toml`
+    /// that made contacts where grains did not touch (a star of its exponents, a point 0.15
+    /// beyond its tip and 1e-4 off the axis, as measured there). Away from the axes, and for
+    /// convex shapes, the first-order value as before.
+    #[test]
+    fn a_point_beyond_a_spike_is_as_far_as_the_tip() {
+        let star = Superellipse::new([0.31, 0.22], [0.6, 0.84]).unwrap();
+        let pose = Pose::new(Vec2::new(1.0, -2.0), 0.7).unwrap();
+        for local in [
+            Vec2::new(1e-4, 0.37),
+            Vec2::new(-0.46, 5e-4),
+            Vec2::new(0.0, -0.3),
+        ] {
+            let q = pose.to_world(local);
+            let (f, g) = star.value_and_gradient(&pose, q);
+            let first_order = f / g.norm();
+            let d = sampled_distance(&star, &pose, q);
+            assert!(
+                first_order < 0.2 * d,
+                "the premise: {first_order} against {d}"
+            );
+            let got = separation(&star, &pose, q);
+            assert!(got >= d && got <= 1.02 * d, "{local:?}: {got} against {d}");
+        }
+        // Off the axes, and for a convex shape, nothing changes.
+        let q = pose.to_world(Vec2::new(0.25, 0.2));
+        let (f, g) = star.value_and_gradient(&pose, q);
+        assert_eq!(separation(&star, &pose, q), f / g.norm());
+        let block = Superellipse::new([0.31, 0.22], [4.0, 1.5]).unwrap();
+        let q = pose.to_world(Vec2::new(1e-4, 0.37));
+        let (f, g) = block.value_and_gradient(&pose, q);
+        assert_eq!(separation(&block, &pose, q), f / g.norm());
+    }
 
     proptest! {
         /// The single-precision searches agree with double precision's: the ray's boundary
