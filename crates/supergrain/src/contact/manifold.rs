@@ -138,7 +138,7 @@ impl Manifold {
 fn separation(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     let (f, g) = s.value_and_gradient(pose, q);
     let len = g.norm();
-    if !(len > 0.0) {
+    if len.is_nan() || len <= 0.0 {
         return f64::INFINITY;
     }
     let [ex, ey] = s.exponents();
