@@ -27,7 +27,7 @@
 //! the paper's, only faster when Newton has found the point.
 
 use super::boundary::{deepest_on_boundary, support_on_boundary};
-use super::ray::push_out;
+use super::ray::push_out_by;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
 use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow, support, support_dual};
@@ -69,7 +69,8 @@ pub(crate) fn convex(s: &Superellipse) -> bool {
 /// cell size for this pair, which sets the tolerance.
 ///
 /// `warm`: where the last query of this pair found its points (a persisting contact), updated
-/// with this query's.
+/// with this query's. `along_spikes`: the pushes of points on a star's cusp along the spike
+/// ([`super::ray::push_out_by`]), for the paper model.
 ///
 /// Convex pairs are solved by Newton; the others, and convex pairs Newton could not certify, by
 /// the boundary search ([`super::boundary`]), whose witnesses are proven inside over a box of
@@ -80,6 +81,7 @@ pub(crate) fn certified_contact(
     cell: f64,
     slack: f64,
     warm: &mut Option<WarmStart>,
+    along_spikes: bool,
 ) -> Option<Certified> {
     let newton = eligible(local_a.shape(), local_b.shape());
     let deepest = |own: &PlacedSuperellipse, other: &PlacedSuperellipse, start: Option<Vec2>| {
@@ -116,8 +118,8 @@ pub(crate) fn certified_contact(
     Some(Certified::Overlap {
         a1,
         a2,
-        a_push: push_out(local_b, a1),
-        b_push: push_out(&a_in_b, a2),
+        a_push: push_out_by(local_b, a1, along_spikes),
+        b_push: push_out_by(&a_in_b, a2, along_spikes),
     })
 }
 

@@ -1,6 +1,6 @@
 use super::certified::{self, Certified, WarmStart};
 use super::push::separating;
-use super::ray::push_out;
+use super::ray::{push_out, push_out_by};
 use super::spikes::spike_witness;
 use super::{Contact, Penetration};
 use crate::geometry::{Aabb, Vec2};
@@ -95,8 +95,15 @@ fn certified_or_quadtree(
         };
     };
     let cell = precision.cell_size(&region);
-    match certified::certified_contact(&local_a, &local_b, cell, world_slack(pose_a, &region), warm)
-    {
+    let along_spikes = answer == Answer::Paper;
+    match certified::certified_contact(
+        &local_a,
+        &local_b,
+        cell,
+        world_slack(pose_a, &region),
+        warm,
+        along_spikes,
+    ) {
         Some(Certified::Apart) => Contact {
             penetration: None,
             cells: 0,
@@ -266,7 +273,11 @@ fn quadtree<S: CellSink + ?Sized>(
         (Some(a1), Some(a2)) => {
             let a1 = polish(local_a, local_b, a1, slack);
             let a2 = polish(local_b, local_a, a2, slack);
-            let (a_push, b_push) = (push_out(local_b, a1), push_out(local_a, a2));
+            let along_spikes = answer == Answer::Paper;
+            let (a_push, b_push) = (
+                push_out_by(local_b, a1, along_spikes),
+                push_out_by(local_a, a2, along_spikes),
+            );
             let (a_push, b_push) = match answer {
                 Answer::Sound => {
                     separating(local_a, local_b, a1, a2, a_push, b_push).unwrap_or((a_push, b_push))
