@@ -356,17 +356,12 @@ struct Witness {
 /// (module docs), and the point to start from next time, or `None` (no answer: the caller runs
 /// the quadtree). `cell`: the final quadtree cell of the pair, which sets the tolerances;
 /// `slack`: witnesses are proven inside over a box of that half-width about them, so that they
-/// stay inside when moved to world coordinates. `cross_cusps`: try the crossings of `other`'s
-/// cusps as witnesses ([`cusp_crossing`]); the paper model's, whose pushes on a cusp run along
-/// the spike (the soft model's depth comes from the gradient's push, and with its answers on
-/// the cusps its mixed pour rested with contacts twice as deep by that measure: not kept there
-/// until understood).
+/// stay inside when moved to world coordinates.
 pub(crate) fn deepest_on_boundary(
     placed_own: &PlacedSuperellipse,
     other: &PlacedSuperellipse,
     cell: f64,
     slack: f64,
-    cross_cusps: bool,
 ) -> Option<(Deepest, Vec2)> {
     let own = placed_own.shape();
     debug_assert_eq!(*placed_own.pose(), Pose::ORIGIN);
@@ -502,7 +497,7 @@ pub(crate) fn deepest_on_boundary(
     };
     // `other`'s cusps: its axes of exponent below 1, where `f_other` has a sharp minimum
     // across the axis (see [`cusp_crossing`]).
-    let cusps = other.shape().exponents().map(|e| cross_cusps && e < 1.0);
+    let cusps = other.shape().exponents().map(|e| e < 1.0);
     // The tips first: a star's deepest point is often one, where the middles of the arcs
     // next to it come near only one halving at a time (12.9 splits a search for the stars of
     // `bench contact` without them, 10.5 with them).
@@ -871,8 +866,7 @@ mod tests {
             let other = PlacedSuperellipse::new(star, pose);
             let placed = PlacedSuperellipse::new(own, Pose::ORIGIN);
             let cell = 1.0 / 128.0;
-            let (Deepest::At(w), _) =
-                deepest_on_boundary(&placed, &other, cell, 0.0, true).unwrap()
+            let (Deepest::At(w), _) = deepest_on_boundary(&placed, &other, cell, 0.0).unwrap()
             else {
                 panic!("{n}: a spike inside, no overlap found");
             };

@@ -69,9 +69,8 @@ pub(crate) fn convex(s: &Superellipse) -> bool {
 /// cell size for this pair, which sets the tolerance.
 ///
 /// `warm`: where the last query of this pair found its points (a persisting contact), updated
-/// with this query's. `along_spikes`: the paper model's: the boundary search crosses a star's
-/// cusps, and the pushes of points on a cusp run along the spike
-/// ([`super::ray::push_out_by`]).
+/// with this query's. `along_spikes`: the pushes of points on a star's cusp along the spike
+/// ([`super::ray::push_out_by`]), for the paper model.
 ///
 /// Convex pairs are solved by Newton; the others, and convex pairs Newton could not certify, by
 /// the boundary search ([`super::boundary`]), whose witnesses are proven inside over a box of
@@ -89,7 +88,7 @@ pub(crate) fn certified_contact(
         if newton && let Some(found) = deepest(own, other, cell, start) {
             return Some(found);
         }
-        deepest_on_boundary(own, other, cell, slack, along_spikes)
+        deepest_on_boundary(own, other, cell, slack)
     };
     let last = warm.take();
     let a1 = match deepest(local_a, local_b, last.map(|w| w.a1))? {
