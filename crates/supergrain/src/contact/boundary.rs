@@ -833,12 +833,13 @@ mod tests {
     /// A convex grain pierced by a star's spike: `f_star` along the grain's boundary has its
     /// minimum where the boundary crosses the spike's axis, a cusp. The search answers with
     /// that crossing (moved a hair inward), within a millionth of the star's size of the axis;
-    /// a split's middle is seldom nearer than a thousandth. And its answer is a witness: no
-    /// densely sampled boundary point is deeper by more than its tolerance.
+    /// a split's middle is seldom nearer than a thousandth. And the answer is the minimum of a
+    /// dense sampling of the boundary, up to the hair, but for a few.
     #[test]
     fn a_spike_through_a_boundary_is_answered_on_its_axis() {
         let mut rng = ChaCha8Rng::seed_from_u64(19);
         let mut on_axis = 0;
+        let (mut misses, mut worst) = (0, 0.0f64);
         for n in 0..200 {
             let own = Superellipse::new(
                 [rng.random_range(0.3..0.6), rng.random_range(0.3..0.6)],
@@ -873,20 +874,31 @@ mod tests {
             if pose.to_local(w).y.abs() <= 1e-6 * star.semi_axes().y {
                 on_axis += 1;
             }
+            // The tolerance at a cusp is wide (the gradient there is steep), so compare with
+            // the sampled minimum itself, which the answer should be up to the hair it was
+            // moved inward (`a 1e-9^e`, below 0.01 for these exponents).
             let value = star.value(&pose, w);
-            let tau = 0.5 * cell * star.gradient(&pose, w).norm();
-            for k in 0..20_000 {
-                let t = k as f64 / 20_000.0 * std::f64::consts::TAU;
-                let f = star.value(&pose, own.boundary_point(t));
-                assert!(
-                    f >= value - tau - 1e-9,
-                    "{n}: sample {k} deeper: {f} < {value}"
-                );
+            let least = (0..20_000)
+                .map(|k| {
+                    let t = k as f64 / 20_000.0 * std::f64::consts::TAU;
+                    star.value(&pose, own.boundary_point(t))
+                })
+                .fold(f64::INFINITY, f64::min);
+            if value > least + 0.01 {
+                misses += 1;
+                worst = f64::max(worst, value - least);
             }
         }
         // (A search may also stop earlier, on a middle whose steep slope gives it a wide
         // tolerance.)
         assert!(on_axis >= 150, "{on_axis} of 200 answers on the axis");
+        // Without the crossing, 161 of the 200 answers were 0.01 to 0.15 above the sampled
+        // minimum (the searches stopped on middles near the axis, whose steep slope widened
+        // their tolerance); with it, one, by 0.017 (a second, deeper stretch of the boundary).
+        assert!(
+            misses <= 4 && worst < 0.05,
+            "{misses} answers above the sampled minimum, by up to {worst}"
+        );
     }
 
     /// A half and its ends' boxes mirrored from the first quadrant are those computed in the
