@@ -32,6 +32,7 @@
 //! caller runs the quadtree, as for the Newton path.
 
 use super::certified::{Deepest, touch_level};
+use super::ray::bracketed_root;
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::{
     Exponent, ImplicitShape, Interval, PlacedSuperellipse, down, pow_down, pow_up, up,
@@ -339,7 +340,8 @@ struct Arc {
 struct Node {
     end: End,
     f: f64,
-    /// The end's boundary point in floating point, for the cusps' crossings.
+    /// The end's boundary point in floating point, for the cusps' crossings (0 when `other`
+    /// has none).
     point: Vec2,
 }
 
@@ -406,6 +408,17 @@ pub(crate) fn deepest_on_boundary(
     // The first quadrant's halves and their ends' boxes, once: the other quadrants' are their
     // mirror images, bit for bit (outward rounding is symmetric under a change of sign).
     // (The boxes only when a quadrant needs them: an apart pair often has none.)
+    // `other`'s cusps: its axes of exponent below 1, where `f_other` has a sharp minimum
+    // across the axis (see [`cusp_crossing`]). The ends' float points serve only those: without
+    // a cusp, none is computed (two powers an end).
+    let cusps = other.shape().exponents().map(|e| e < 1.0);
+    let end_point = |half: &Half, p: f64| {
+        if cusps.contains(&true) {
+            half.point(p)
+        } else {
+            Vec2::ZERO
+        }
+    };
     let first = halves(ex, ey, s.x, s.y);
     let mut first_ends: Option<[(End, End); 2]> = None;
     let mut table = [first[0]; 8];
@@ -451,12 +464,12 @@ pub(crate) fn deepest_on_boundary(
                 nodes.push(Node {
                     end: e0,
                     f: f0,
-                    point: half.point(e0.p),
+                    point: end_point(&half, e0.p),
                 });
                 nodes.push(Node {
                     end: e1,
                     f: f1,
-                    point: half.point(e1.p),
+                    point: end_point(&half, e1.p),
                 });
                 arcs.push(Arc {
                     half: index as u8,
@@ -495,9 +508,6 @@ pub(crate) fn deepest_on_boundary(
             }
         }
     };
-    // `other`'s cusps: its axes of exponent below 1, where `f_other` has a sharp minimum
-    // across the axis (see [`cusp_crossing`]).
-    let cusps = other.shape().exponents().map(|e| e < 1.0);
     // The tips first: a star's deepest point is often one, where the middles of the arcs
     // next to it come near only one halving at a time (12.9 splits a search for the stars of
     // `bench contact` without them, 10.5 with them).
@@ -609,47 +619,26 @@ fn axis_of(pose: &Pose, q: Vec2, axis: usize) -> f64 {
 /// crossing is worse by `a d^e` (for `e = 0.3`, `d = 1e-3` costs `0.1 a`), so the search closed
 /// in on it a halving at a time. Counted in `bench contact`'s stars class, such minima were 387
 /// of its 955 overlapping searches and took 16.5 splits each, 56% of all. The crossing itself,
-/// by the Illinois method on the parameter (regula falsi that halves a stale end's value), is a
+/// by the Illinois method on the parameter ([`bracketed_root`], as a push's ray), is a
 /// witness within rounding of the minimum; its tolerance then reflects the steep slope there.
 /// (Only a witness: it still has to be proven inside both shapes, and every arc bounded.)
 fn cusp_crossing(half: &Half, (n0, n1): (&Node, &Node), g: impl Fn(Vec2) -> f64) -> Option<Vec2> {
-    let (mut a, mut b) = (n0.end.p, n1.end.p);
-    let (mut ga, mut gb) = (g(n0.point), g(n1.point));
+    let (ga, gb) = (g(n0.point), g(n1.point));
     let product = ga * gb;
     if product.is_nan() || product >= 0.0 {
         return None;
     }
-    let mut last = 0i8;
-    for _ in 0..60 {
-        let mut c = (a * gb - b * ga) / (gb - ga);
-        if !(c > a && c < b) {
-            c = 0.5 * (a + b);
-            if !(c > a && c < b) {
-                break;
-            }
-        }
-        let gc = g(half.point(c));
-        if gc == 0.0 {
-            return Some(half.point(c));
-        }
-        if (gc < 0.0) == (gb < 0.0) {
-            (b, gb) = (c, gc);
-            if last == -1 {
-                ga *= 0.5;
-            }
-            last = -1;
-        } else {
-            (a, ga) = (c, gc);
-            if last == 1 {
-                gb *= 0.5;
-            }
-            last = 1;
-        }
-        if b - a <= 4.0 * f64::EPSILON * b.abs() {
-            break;
-        }
-    }
-    Some(half.point(if ga.abs() <= gb.abs() { a } else { b }))
+    // The search wants the value below 0 at the first end.
+    let sign = if ga < 0.0 { 1.0 } else { -1.0 };
+    let (a, b) = (n0.end.p, n1.end.p);
+    let p = bracketed_root(
+        (a, sign * ga),
+        (b, sign * gb),
+        4.0 * f64::EPSILON * b.abs(),
+        0.0,
+        |p| sign * g(half.point(p)),
+    );
+    Some(half.point(p))
 }
 
 /// The support of `shape` (in its frame) in the direction `m`, `max over the shape of m . y`,

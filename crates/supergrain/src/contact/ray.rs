@@ -144,7 +144,7 @@ pub fn ray_to_boundary<S: ImplicitShape + ?Sized>(
             }
         }
     }
-    let (mut t1, mut f1) = match outside {
+    let (t1, f1) = match outside {
         Some(end) => end,
         None => {
             let f_far = shape.value(at(t_far));
@@ -155,8 +155,29 @@ pub fn ray_to_boundary<S: ImplicitShape + ?Sized>(
             (t_far, f_far)
         }
     };
-    // Far below any quadtree cell: the push is exact to ~1e-10 of the shape's size.
-    let tol = t_far * 1e-10;
+    // Far below any quadtree cell: the push is exact to ~1e-10 of the shape's size; `|f|` of
+    // 1e-14 is well within that of the boundary for any sane gradient.
+    at(bracketed_root(
+        (t0, f0),
+        (t1, f1),
+        t_far * 1e-10,
+        1e-14,
+        |t| shape.value(at(t)),
+    ))
+}
+
+/// A root of `f` between `t0 < t1`, where `f0 = f(t0) < 0 <= f1 = f(t1)`: regula falsi with the
+/// Illinois modification (a stale end's value halved), and a bisection step after two steps in a
+/// row that failed to halve the bracket, so never slower than bisection. Returns a point where
+/// `|f| <= small`, or the middle of the bracket once it is at most `tol` wide (or after 200
+/// evaluations, or at a value that is not a number).
+pub(crate) fn bracketed_root(
+    (mut t0, mut f0): (f64, f64),
+    (mut t1, mut f1): (f64, f64),
+    tol: f64,
+    small: f64,
+    mut f: impl FnMut(f64) -> f64,
+) -> f64 {
     let mut side = 0i8;
     let mut slow = 0u8;
     for _ in 0..200 {
@@ -165,20 +186,18 @@ pub fn ray_to_boundary<S: ImplicitShape + ?Sized>(
             break;
         }
         let secant = (t0 * f1 - t1 * f0) / (f1 - f0);
-        // Bisect after two steps in a row that failed to halve the bracket.
         let t = if slow >= 2 || !(secant > t0 && secant < t1) {
             slow = 0;
             0.5 * (t0 + t1)
         } else {
             secant
         };
-        let ft = shape.value(at(t));
+        let ft = f(t);
         if ft.is_nan() {
             break;
         }
-        // |f| this small is well within `tol` of the boundary for any sane gradient.
-        if ft.abs() <= 1e-14 {
-            return at(t);
+        if ft.abs() <= small {
+            return t;
         }
         if ft < 0.0 {
             (t0, f0) = (t, ft);
@@ -195,7 +214,7 @@ pub fn ray_to_boundary<S: ImplicitShape + ?Sized>(
         }
         slow = if t1 - t0 > 0.5 * width { slow + 1 } else { 0 };
     }
-    at(0.5 * (t0 + t1))
+    0.5 * (t0 + t1)
 }
 
 /// [`ray_to_boundary`] for a shape whose `f` is convex (a superellipse with every exponent at

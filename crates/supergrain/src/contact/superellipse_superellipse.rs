@@ -79,6 +79,14 @@ enum Answer {
     Paper,
 }
 
+impl Answer {
+    /// Whether a push from a star's cusp runs along the spike ([`super::ray::push_out_by`]):
+    /// the paper's projection moves the grains by its pushes.
+    fn along_spikes(self) -> bool {
+        self == Answer::Paper
+    }
+}
+
 fn certified_or_quadtree(
     a: &Superellipse,
     pose_a: &Pose,
@@ -95,14 +103,13 @@ fn certified_or_quadtree(
         };
     };
     let cell = precision.cell_size(&region);
-    let along_spikes = answer == Answer::Paper;
     match certified::certified_contact(
         &local_a,
         &local_b,
         cell,
         world_slack(pose_a, &region),
         warm,
-        along_spikes,
+        answer.along_spikes(),
     ) {
         Some(Certified::Apart) => Contact {
             penetration: None,
@@ -273,10 +280,9 @@ fn quadtree<S: CellSink + ?Sized>(
         (Some(a1), Some(a2)) => {
             let a1 = polish(local_a, local_b, a1, slack);
             let a2 = polish(local_b, local_a, a2, slack);
-            let along_spikes = answer == Answer::Paper;
             let (a_push, b_push) = (
-                push_out_by(local_b, a1, along_spikes),
-                push_out_by(local_a, a2, along_spikes),
+                push_out_by(local_b, a1, answer.along_spikes()),
+                push_out_by(local_a, a2, answer.along_spikes()),
             );
             let (a_push, b_push) = match answer {
                 Answer::Sound => {
