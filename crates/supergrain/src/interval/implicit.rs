@@ -265,6 +265,13 @@ impl PlacedSuperellipse {
     /// 1, where `|u|` has a kink at the axis, the slope there is enclosed by `[-1, 1]` (its
     /// generalised gradient), which is what the mean-value bounds built on it need.
     pub(crate) fn gradient_enclosure(&self, cell: &Aabb) -> Option<[Interval; 2]> {
+        self.axis_slopes(cell).map(|s| self.gradient_from(s))
+    }
+
+    /// The slope of each term `|u|^e` in its own coordinate over the box,
+    /// `e sgn(u) |u|^(e - 1)`, `None` where it is unbounded (a star's axis in the box): what
+    /// [`Self::gradient_enclosure`] and [`Self::second_derivative_floor`] share.
+    pub(crate) fn axis_slopes(&self, cell: &Aabb) -> Option<[Interval; 2]> {
         let exponents = self.shape.exponents();
         let t = [self.maps[0].enclose(cell), self.maps[1].enclose(cell)];
         // Unbounded before any power is spent: a star's axis in the box.
@@ -272,16 +279,96 @@ impl PlacedSuperellipse {
         if unbounded(exponents[0], t[0]) || unbounded(exponents[1], t[1]) {
             return None;
         }
+        // d/du |u|^e = e sgn(u) |u|^(e - 1).
+        Some([
+            signed_pow(t[0], exponents[0])?.scale(exponents[0]),
+            signed_pow(t[1], exponents[1])?.scale(exponents[1]),
+        ])
+    }
+
+    /// `grad f` from [`Self::axis_slopes`]: each slope times its coordinate's gradient.
+    pub(crate) fn gradient_from(&self, slopes: [Interval; 2]) -> [Interval; 2] {
         let mut g = [Interval::point(0.0); 2];
-        for (axis, map) in self.maps.iter().enumerate() {
-            let e = exponents[axis];
-            // d/du |u|^e = e sgn(u) |u|^(e - 1).
-            let slope = signed_pow(t[axis], e)?.scale(e);
+        for (map, slope) in self.maps.iter().zip(slopes) {
             let (du_dx, du_dy) = map.gradient();
             g[0] = g[0].plus(slope.times(du_dx));
             g[1] = g[1].plus(slope.times(du_dy));
         }
-        Some(g)
+        g
+    }
+}
+
+impl PlacedSuperellipse {
+    /// A lower bound of the second derivative of `f` along a curve over the box: `d1` and `d2`
+    /// enclose the curve's velocity and acceleration (world axes) while it stays in the box,
+    /// `slopes` are [`Self::axis_slopes`] over the box.
+    /// `f = sum |u|^e - 1` with `u` affine in the point, so the second derivative is
+    /// `sum e (e - 1) |u|^(e - 2) (u')^2 + e sgn(u) |u|^(e - 1) u''`, `u' = grad u . d1` and
+    /// `u'' = grad u . d2`. The first term is never negative for `e >= 1` (for `1 < e < 2` it
+    /// is unbounded at the axis, and bounded below by its value at the box's far side; the
+    /// kink of `e = 1` only adds to it); for a star (`e < 1`) it is negative and unbounded at
+    /// the axis, where [`Self::axis_slopes`] is already `None`. `None` where the sum is not
+    /// finite. The boundary search's second-order bounds ([`crate::contact`]) rest on it.
+    pub(crate) fn second_derivative_floor(
+        &self,
+        cell: &Aabb,
+        slopes: [Interval; 2],
+        d1: [Interval; 2],
+        d2: [Interval; 2],
+    ) -> Option<f64> {
+        // Covers the rounding of `e - 2` and `e (e - 1)` (a relative 1e-15 or less on the
+        // powers over `|u| >= 1e-300`, as [`signed_pow`]'s pad).
+        const PAD: f64 = 1e-12;
+        let exponents = self.shape.exponents();
+        let mut total = 0.0;
+        for (axis, map) in self.maps.iter().enumerate() {
+            let e = exponents[axis];
+            let t = map.enclose(cell);
+            let slope = slopes[axis];
+            let (gx, gy) = map.gradient();
+            let v = gx.times(d1[0]).plus(gy.times(d1[1]));
+            let acc = gx.times(d2[0]).plus(gy.times(d2[1]));
+            // `(u')^2` enclosed: from 0 where `u'` may vanish.
+            let (v_lo, v_hi) = (v.lo.abs().min(v.hi.abs()), v.lo.abs().max(v.hi.abs()));
+            let square = Interval::new(
+                if v.lo <= 0.0 && v.hi >= 0.0 {
+                    0.0
+                } else {
+                    down(v_lo * v_lo)
+                },
+                up(v_hi * v_hi),
+            );
+            let a = t.abs();
+            let k = Exponent::new(e - 2.0);
+            let first = if e == 1.0 {
+                0.0
+            } else if e == 2.0 {
+                down(2.0 * square.lo)
+            } else if e > 2.0 {
+                // `|u|^(e - 2)` grows with `|u|`: least at the box's near side.
+                let least = down(k.pow_down(a.lo) * (1.0 - PAD));
+                down(down(down(e * (e - 1.0)) * (1.0 - PAD) * least) * square.lo)
+            } else if e > 1.0 {
+                // Falls with `|u|`: least at the far side (0 there if the box is the axis).
+                let least = if a.hi > 0.0 {
+                    down(k.pow_down(a.hi) * (1.0 - PAD))
+                } else {
+                    0.0
+                };
+                down(down(down(e * (e - 1.0)) * (1.0 - PAD) * least) * square.lo)
+            } else {
+                // A star: `e (e - 1) < 0`, most negative at the near side, which `signed_pow`
+                // has kept off the axis.
+                let most = up(k.pow_up(a.lo) * (1.0 + PAD));
+                -up(up(up(e * (1.0 - e)) * (1.0 + PAD) * most) * square.hi)
+            };
+            let term = down(first + slope.times(acc).lo);
+            if !term.is_finite() {
+                return None;
+            }
+            total = down(total + term);
+        }
+        Some(total)
     }
 }
 
