@@ -346,11 +346,11 @@ fn second_order_bound(
     half: &Half,
     other: &PlacedSuperellipse,
     (e0, e1): (&End, &End),
+    (dp, dq, factors): (f64, Interval, [Interval; 2]),
     (hull, slopes): (&Aabb, [Interval; 2]),
     (f0, f1): (f64, f64),
     (s0, s1): (Interval, Interval),
 ) -> Option<f64> {
-    let (dp, dq, factors) = half.tangent_factors(e0, e1)?;
     let dqq = half.curvature(e0, e1, factors)?;
     let floor = other.second_derivative_floor(
         hull,
@@ -374,10 +374,10 @@ fn second_order_bound(
 fn slope_bound(
     half: &Half,
     (e0, e1): (&End, &End),
+    (dp, dq): (f64, Interval),
     g: [Interval; 2],
     (f0, f1): (f64, f64),
 ) -> Option<f64> {
-    let (dp, dq) = half.tangent(e0, e1)?;
     let (p0, p1) = (e0.p, e1.p);
     let (gp, gq) = if half.by_y {
         (g[1], g[0])
@@ -417,10 +417,15 @@ fn tighter(
     let (n0, n1) = (nodes[i0 as usize], nodes[i1 as usize]);
     let ends = (&n0.end, &n1.end);
     let values = (n0.f, n1.f);
+    // The tangent first: without it no power is spent.
+    let Some(tangent) = half.tangent_factors(ends.0, ends.1) else {
+        return lower;
+    };
     let Some(slopes) = other.axis_slopes(hull) else {
         return lower;
     };
-    let first = slope_bound(half, ends, other.gradient_from(slopes), values)
+    let (dp, dq, _) = tangent;
+    let first = slope_bound(half, ends, (dp, dq), other.gradient_from(slopes), values)
         .map_or(lower, |b| b.max(lower));
     if first >= goal || n1.end.p - n0.end.p > SECOND_ORDER_MAX_ARC {
         return first;
@@ -436,7 +441,7 @@ fn tighter(
     let (Some(s0), Some(s1)) = (end_slope(i0), end_slope(i1)) else {
         return first;
     };
-    second_order_bound(half, other, ends, (hull, slopes), values, (s0, s1))
+    second_order_bound(half, other, ends, tangent, (hull, slopes), values, (s0, s1))
         .map_or(first, |b| b.max(first))
 }
 
@@ -1177,7 +1182,8 @@ mod tests {
             let second = || {
                 let slopes = placed.axis_slopes(&hull)?;
                 let at_ends = (slope_at(&h, &placed, &e0)?, slope_at(&h, &placed, &e1)?);
-                second_order_bound(&h, &placed, (&e0, &e1), (&hull, slopes), values, at_ends)
+                let t = h.tangent_factors(&e0, &e1)?;
+                second_order_bound(&h, &placed, (&e0, &e1), t, (&hull, slopes), values, at_ends)
             };
             let Some(bound) = second() else {
                 continue;
@@ -1194,7 +1200,7 @@ mod tests {
             );
             let slope = placed
                 .gradient_enclosure(&hull)
-                .and_then(|g| slope_bound(&h, (&e0, &e1), g, values));
+                .and_then(|g| slope_bound(&h, (&e0, &e1), h.tangent(&e0, &e1)?, g, values));
             if slope.is_none_or(|b| bound > b) {
                 tighter_than_slope += 1;
             }
@@ -1312,7 +1318,10 @@ mod tests {
             let Some(g) = placed.gradient_enclosure(&hull) else {
                 continue;
             };
-            let Some(bound) = slope_bound(&h, (&e0, &e1), g, values) else {
+            let Some(t) = h.tangent(&e0, &e1) else {
+                continue;
+            };
+            let Some(bound) = slope_bound(&h, (&e0, &e1), t, g, values) else {
                 continue;
             };
             let least = (0..=2000)
