@@ -1119,6 +1119,88 @@ mod tests {
         }
     }
 
+    /// A random arc and a random other shape (exponents from 1/2) placed near its middle: what
+    /// the bounds along an arc are checked on.
+    #[derive(Clone, Copy)]
+    struct ArcCase {
+        h: Half,
+        e_q: f64,
+        p0: f64,
+        p1: f64,
+        other: Superellipse,
+        pose: Pose,
+        placed: PlacedSuperellipse,
+        e0: End,
+        e1: End,
+        hull: Aabb,
+        values: (f64, f64),
+    }
+
+    impl ArcCase {
+        fn new(rng: &mut ChaCha8Rng) -> ArcCase {
+            let (h, e_q, p0, p1) = random_arc(rng);
+            let other = Superellipse::new(
+                [rng.random_range(0.2..1.0), rng.random_range(0.2..1.0)],
+                [exponent(rng).max(0.5), exponent(rng).max(0.5)],
+            )
+            .unwrap();
+            let mid = plain_point(&h, e_q, 0.5 * (p0 + p1));
+            let pose = Pose::new(
+                Vec2::new(
+                    mid[0] + rng.random_range(-0.8..0.8),
+                    mid[1] + rng.random_range(-0.8..0.8),
+                ),
+                rng.random_range(0.0..6.3),
+            )
+            .unwrap();
+            let placed = PlacedSuperellipse::new(other, pose);
+            let (e0, e1) = (h.enclose(p0), h.enclose(p1));
+            let values = (placed.lower_bound(&e0.b), placed.lower_bound(&e1.b));
+            ArcCase {
+                h,
+                e_q,
+                p0,
+                p1,
+                other,
+                pose,
+                placed,
+                e0,
+                e1,
+                hull: e0.b.union(&e1.b),
+                values,
+            }
+        }
+
+        #[allow(clippy::type_complexity)]
+        fn parts(&self) -> (Half, PlacedSuperellipse, (End, End), Aabb, (f64, f64)) {
+            (
+                self.h,
+                self.placed,
+                (self.e0, self.e1),
+                self.hull,
+                self.values,
+            )
+        }
+
+        /// That `bound` is below the least of `f_other` at 2,001 points along the arc (by the
+        /// formulas written again, up to their rounding), and that least.
+        fn assert_below(&self, bound: f64) -> f64 {
+            let least = (0..=2000)
+                .map(|k| {
+                    let p = self.p0 + (self.p1 - self.p0) * f64::from(k) / 2000.0;
+                    plain_f(&self.other, &self.pose, plain_point(&self.h, self.e_q, p))
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                bound <= least + 1e-9 * (1.0 + least.abs()),
+                "bound {bound} above the sampled minimum {least} on [{}, {}]",
+                self.p0,
+                self.p1
+            );
+            least
+        }
+    }
+
     /// The boundary's second derivative against central differences of the plain formula.
     #[test]
     fn the_curvature_encloses_finite_differences() {
@@ -1160,25 +1242,8 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(32);
         let (mut checked, mut tighter_than_slope, mut closes) = (0, 0, 0);
         while checked < 1500 {
-            let (h, e_q, p0, p1) = random_arc(&mut rng);
-            let other = Superellipse::new(
-                [rng.random_range(0.2..1.0), rng.random_range(0.2..1.0)],
-                [exponent(&mut rng).max(0.5), exponent(&mut rng).max(0.5)],
-            )
-            .unwrap();
-            let mid = plain_point(&h, e_q, 0.5 * (p0 + p1));
-            let pose = Pose::new(
-                Vec2::new(
-                    mid[0] + rng.random_range(-0.8..0.8),
-                    mid[1] + rng.random_range(-0.8..0.8),
-                ),
-                rng.random_range(0.0..6.3),
-            )
-            .unwrap();
-            let placed = PlacedSuperellipse::new(other, pose);
-            let (e0, e1) = (h.enclose(p0), h.enclose(p1));
-            let hull = e0.b.union(&e1.b);
-            let values = (placed.lower_bound(&e0.b), placed.lower_bound(&e1.b));
+            let case = ArcCase::new(&mut rng);
+            let (h, placed, (e0, e1), hull, values) = case.parts();
             let second = || {
                 let slopes = placed.axis_slopes(&hull)?;
                 let at_ends = (slope_at(&h, &placed, &e0)?, slope_at(&h, &placed, &e1)?);
@@ -1188,23 +1253,14 @@ mod tests {
             let Some(bound) = second() else {
                 continue;
             };
-            let least = (0..=2000)
-                .map(|k| {
-                    let p = p0 + (p1 - p0) * f64::from(k) / 2000.0;
-                    plain_f(&other, &pose, plain_point(&h, e_q, p))
-                })
-                .fold(f64::INFINITY, f64::min);
-            assert!(
-                bound <= least + 1e-9 * (1.0 + least.abs()),
-                "bound {bound} above the sampled minimum {least} on [{p0}, {p1}]"
-            );
+            let least = case.assert_below(bound);
             let slope = placed
                 .gradient_enclosure(&hull)
                 .and_then(|g| slope_bound(&h, (&e0, &e1), h.tangent(&e0, &e1)?, g, values));
             if slope.is_none_or(|b| bound > b) {
                 tighter_than_slope += 1;
             }
-            if least - bound < 1e-3 * (p1 - p0) {
+            if least - bound < 1e-3 * (case.p1 - case.p0) {
                 closes += 1;
             }
             checked += 1;
@@ -1296,25 +1352,8 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         let (mut checked, mut tighter_than_box) = (0, 0);
         while checked < 1000 {
-            let (h, e_q, p0, p1) = random_arc(&mut rng);
-            let other = Superellipse::new(
-                [rng.random_range(0.2..1.0), rng.random_range(0.2..1.0)],
-                [exponent(&mut rng).max(0.5), exponent(&mut rng).max(0.5)],
-            )
-            .unwrap();
-            let mid = plain_point(&h, e_q, 0.5 * (p0 + p1));
-            let pose = Pose::new(
-                Vec2::new(
-                    mid[0] + rng.random_range(-0.8..0.8),
-                    mid[1] + rng.random_range(-0.8..0.8),
-                ),
-                rng.random_range(0.0..6.3),
-            )
-            .unwrap();
-            let placed = PlacedSuperellipse::new(other, pose);
-            let (e0, e1) = (h.enclose(p0), h.enclose(p1));
-            let hull = e0.b.union(&e1.b);
-            let values = (placed.lower_bound(&e0.b), placed.lower_bound(&e1.b));
+            let case = ArcCase::new(&mut rng);
+            let (h, placed, (e0, e1), hull, values) = case.parts();
             let Some(g) = placed.gradient_enclosure(&hull) else {
                 continue;
             };
@@ -1324,16 +1363,7 @@ mod tests {
             let Some(bound) = slope_bound(&h, (&e0, &e1), t, g, values) else {
                 continue;
             };
-            let least = (0..=2000)
-                .map(|k| {
-                    let p = p0 + (p1 - p0) * f64::from(k) / 2000.0;
-                    plain_f(&other, &pose, plain_point(&h, e_q, p))
-                })
-                .fold(f64::INFINITY, f64::min);
-            assert!(
-                bound <= least + 1e-9 * (1.0 + least.abs()),
-                "bound {bound} above the sampled minimum {least} on [{p0}, {p1}]"
-            );
+            case.assert_below(bound);
             if bound > placed.lower_bound(&hull) {
                 tighter_than_box += 1;
             }
