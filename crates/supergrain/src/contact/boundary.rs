@@ -307,16 +307,22 @@ impl Half {
     }
 }
 
-/// A lower bound of `a + b t + c t^2` over `t` in `[0, h]`.
+/// A lower bound of `a + b t + c t^2` over `t` in `[0, h]` (`c` finite).
 fn quadratic_floor(a: f64, b: f64, c: f64, h: f64) -> f64 {
     if c > 0.0 {
         if b >= 0.0 {
             return a;
         }
         // Both are below the parabola over `[0, h]`: its vertex's value, and the chord `a + b t`.
-        let vertex = down(a - up(up(b * b) / down(4.0 * c)));
+        // (The vertex only where `4c` rounded down stays positive: for a subnormal `c` it
+        // would not, and the quotient's sign would flip; found by a review, tested below.)
         let chord = down(a + down(b * h));
-        vertex.max(chord)
+        let four_c = down(4.0 * c);
+        if four_c > 0.0 {
+            chord.max(down(a - up(up(b * b) / four_c)))
+        } else {
+            chord
+        }
     } else {
         // Concave: least at an end.
         a.min(down(a + down(down(b * h) + down(c * up(h * h)))))
@@ -358,6 +364,9 @@ fn second_order_bound(
         half.xy(Interval::point(dp), dq),
         half.xy(Interval::point(0.0), dqq),
     )?;
+    if !floor.is_finite() {
+        return None;
+    }
     let c = 0.5 * floor;
     let h = up(e1.p - e0.p);
     Some(quadratic_floor(f0, s0.lo, c, h).max(quadratic_floor(f1, -s1.hi, c, h)))
@@ -1198,6 +1207,45 @@ mod tests {
                 self.p1
             );
             least
+        }
+    }
+
+    /// The parabola's floor against its least over a fine grid, for random coefficients and
+    /// for the edge a review found: a subnormal `c`, where `down(4c)` is negative (the floor
+    /// came out at 5.5e303 for a least of -0.50001).
+    #[test]
+    fn the_quadratic_floor_is_below_the_parabola() {
+        let mut rng = ChaCha8Rng::seed_from_u64(33);
+        let mut cases: Vec<[f64; 4]> = vec![
+            [-0.5, -1e-3, 1e-309, 0.01],
+            [-0.5, -1e-300, 1e-309, 0.01],
+            [-0.5, -1e-3, f64::MIN_POSITIVE, 0.01],
+        ];
+        for _ in 0..2000 {
+            let c = match rng.random_range(0..3) {
+                0 => rng.random_range(-10.0..10.0),
+                1 => rng.random_range(0.0..1e-300),
+                _ => 0.0,
+            };
+            cases.push([
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-5.0..5.0),
+                c,
+                rng.random_range(0.0..1.0),
+            ]);
+        }
+        for [a, b, c, h] in cases {
+            let floor = quadratic_floor(a, b, c, h);
+            let least = (0..=1000)
+                .map(|k| {
+                    let t = h * f64::from(k) / 1000.0;
+                    a + b * t + c * t * t
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                floor <= least + 1e-12 * (1.0 + least.abs()),
+                "floor {floor} above {least} for a {a}, b {b}, c {c}, h {h}"
+            );
         }
     }
 

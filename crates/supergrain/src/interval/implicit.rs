@@ -368,7 +368,7 @@ impl PlacedSuperellipse {
             }
             total = down(total + term);
         }
-        Some(total)
+        total.is_finite().then_some(total)
     }
 }
 
