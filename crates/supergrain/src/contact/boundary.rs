@@ -272,6 +272,10 @@ impl Half {
     fn curvature(&self, e0: &End, e1: &End, [pp, wk]: [Interval; 2]) -> Option<Interval> {
         let e_p = self.e_p_float;
         let (p0, p1) = (e0.p, e1.p);
+        let (w_lo, w_hi) = (e1.w.lo, e0.w.hi);
+        if !(w_lo > 0.0 && p1 > 0.0) {
+            return None;
+        }
         let p = Interval::new(p0, p1);
         // `p^(e_p - 2) = p^(e_p - 1) / p`.
         let pp2 = if e_p == 1.0 {
@@ -286,12 +290,8 @@ impl Half {
         } else {
             return None;
         };
-        let (w_lo, w_hi) = (e1.w.lo, e0.w.hi);
         let w = Interval::new(w_lo, w_hi);
         let k = self.inv_q - 1.0;
-        if !(w_lo > 0.0 && p1 > 0.0) {
-            return None;
-        }
         // `e_p - 1` rounded, and `k` from the rounded `1 / e_q`: enclosed.
         let around = |x: f64, err: f64| Interval::new(down(x) - err, up(x) + err);
         let first = pp2.times(wk).times(around(e_p - 1.0, 0.0));
@@ -364,9 +364,6 @@ fn second_order_bound(
         half.xy(Interval::point(dp), dq),
         half.xy(Interval::point(0.0), dqq),
     )?;
-    if !floor.is_finite() {
-        return None;
-    }
     let c = 0.5 * floor;
     let h = up(e1.p - e0.p);
     Some(quadratic_floor(f0, s0.lo, c, h).max(quadratic_floor(f1, -s1.hi, c, h)))
@@ -637,12 +634,9 @@ pub(crate) fn deepest_on_boundary(
     // across the axis (see [`cusp_crossing`]). The ends' float points serve only those: without
     // a cusp, none is computed (two powers an end).
     let cusps = other.shape().exponents().map(|e| e < 1.0);
+    let any_cusp = cusps.contains(&true);
     let end_point = |half: &Half, p: f64| {
-        if cusps.contains(&true) {
-            half.point(p)
-        } else {
-            Vec2::ZERO
-        }
+        if any_cusp { half.point(p) } else { Vec2::ZERO }
     };
     let first = halves(ex, ey, s.x, s.y);
     let mut first_ends: Option<[(End, End); 2]> = None;

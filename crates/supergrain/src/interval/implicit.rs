@@ -344,13 +344,12 @@ impl PlacedSuperellipse {
                 0.0
             } else if e == 2.0 {
                 down(2.0 * square.lo)
-            } else if e > 2.0 {
-                // `|u|^(e - 2)` grows with `|u|`: least at the box's near side.
-                let least = down(k.pow_down(a.lo) * (1.0 - PAD));
-                down(down(down(e * (e - 1.0)) * (1.0 - PAD) * least) * square.lo)
             } else if e > 1.0 {
-                // Falls with `|u|`: least at the far side (0 there if the box is the axis).
-                let least = if a.hi > 0.0 {
+                // `|u|^(e - 2)` grows with `|u|` for `e > 2` (least at the box's near side) and
+                // falls for `e < 2` (least at the far side, 0 there if the box is the axis).
+                let least = if e > 2.0 {
+                    down(k.pow_down(a.lo) * (1.0 - PAD))
+                } else if a.hi > 0.0 {
                     down(k.pow_down(a.hi) * (1.0 - PAD))
                 } else {
                     0.0
