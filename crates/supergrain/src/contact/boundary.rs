@@ -622,9 +622,11 @@ pub(crate) fn deepest_on_boundary(
     // without them and 9 with them, and the preset's first 1,500 steps' tests, replayed, 17%
     // less time. For a star `own` below 1/2 (the thin spikes of `bench contact`'s stars class)
     // they still cost: with them the class ran 6.1-6.8 µs against 5.8-6.3 without, in
-    // alternating runs, so they wait for both shapes' exponents from 1/2.
+    // alternating runs, so against a star they wait for both shapes' exponents from 1/2
+    // (against a convex `other` they apply to any `own`, as before).
     let least = |s: &Superellipse| s.exponents().into_iter().fold(f64::INFINITY, f64::min);
-    let slopes = least(other.shape()) >= SLOPE_MIN_EXPONENT && least(own) >= SLOPE_MIN_EXPONENT;
+    let slopes = least(other.shape()) >= 1.0
+        || (least(other.shape()) >= SLOPE_MIN_EXPONENT && least(own) >= SLOPE_MIN_EXPONENT);
     let [ex, ey] = own.exponents();
     let s = own.semi_axes();
     // The first quadrant's halves and their ends' boxes, once: the other quadrants' are their
