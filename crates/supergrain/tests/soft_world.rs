@@ -68,16 +68,42 @@ fn one_thread_and_two_give_the_same_heap() {
 fn a_run_resumed_from_its_dump_goes_on_bit_for_bit() {
     let scene = Scene::from_toml(SCENE).unwrap();
     let mut straight = World::new(&scene);
-    run(&mut straight, 150);
+    run(&mut straight, 400);
     let saved = text(&straight);
     assert!(
-        saved.contains("\"contacts\""),
-        "the dump keeps the contacts"
+        saved.contains("\"contacts\"") && saved.contains("\"carried\""),
+        "the dump keeps the contacts and the manifolds carried"
     );
     let mut resumed = Dump::from_json(&saved).unwrap().to_world().unwrap();
-    run(&mut straight, 300);
-    run(&mut resumed, 300);
+    run(&mut straight, 550);
+    run(&mut resumed, 550);
     assert_eq!(text(&straight), text(&resumed));
+}
+
+/// A dump's carried manifolds are checked as they are read: an error names the contact and
+/// what is wrong, and nothing is resumed.
+#[test]
+fn a_dump_with_a_bad_carried_manifold_is_refused_naming_the_contact() {
+    let scene = Scene::from_toml(SCENE).unwrap();
+    let mut w = World::new(&scene);
+    run(&mut w, 300);
+    let mut dump: serde_json::Value = serde_json::from_str(&text(&w)).unwrap();
+    let contacts = dump["contacts"].as_array_mut().unwrap();
+    let k = contacts
+        .iter()
+        .position(|c| c.get("carried").is_some())
+        .expect("a carried manifold");
+    contacts[k]["carried"]["points"][0][3] = serde_json::json!(7.0);
+    let err = Dump::from_json(&dump.to_string())
+        .unwrap()
+        .to_world()
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        err.contains(&format!("contacts[{k}]")) && err.contains("id is 0, 1 or 2"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -54,6 +54,19 @@ impl Manifold {
         &self.points[..self.len]
     }
 
+    /// A manifold of given points (at most [`MAX_POINTS`]; more are dropped), for one carried
+    /// from an earlier step (`solver::carry`). `None` for no point.
+    pub fn from_points(normal: Vec2, points: &[ManifoldPoint]) -> Option<Manifold> {
+        let first = *points.first()?;
+        let mut m = Manifold {
+            normal,
+            points: [first; MAX_POINTS],
+            len: points.len().min(MAX_POINTS),
+        };
+        m.points[..m.len].copy_from_slice(&points[..m.len]);
+        Some(m)
+    }
+
     fn new(normal: Vec2, middle: Vec2, depth: f64) -> Self {
         let p = ManifoldPoint {
             point: middle,

@@ -11,6 +11,7 @@ use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::WarmStart;
 use crate::geometry::Vec2;
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
+use crate::solver::carry::{Carried, CarriedParts};
 use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings};
 use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
@@ -122,6 +123,9 @@ pub struct SoftJson {
     pub slop: f64,
     pub linear_damping: f64,
     pub angular_damping: f64,
+    /// Absent (a dump written before contacts were carried): 0, none carried, as that code ran.
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub carry_reach: f64,
 }
 
 /// A contact the soft step keeps from one step to the next: its impulses (the next step's
@@ -145,6 +149,21 @@ pub struct ContactJson {
     /// Newton's last points for the pair, in A's frame: `[A1]` or `[A1, A2]`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warm: Vec<[f64; 2]>,
+    /// The pair's manifold carried from the step it was last searched
+    /// (`solver::carry::CarriedParts`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub carried: Option<CarriedJson>,
+}
+
+/// A carried manifold: B's pose in A's frame `[x, y, angle, cos, sin]`, the normal and a point
+/// proven inside both grains in A's frame, and each point `[x, y, separation, id]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CarriedJson {
+    pub pose: [f64; 5],
+    pub normal: [f64; 2],
+    pub witness: [f64; 2],
+    pub points: Vec<[f64; 4]>,
 }
 
 /// A grain drawn that has not appeared yet.
@@ -402,6 +421,7 @@ impl Dump {
                         slop: k.slop,
                         linear_damping: k.linear_damping,
                         angular_damping: k.angular_damping,
+                        carry_reach: k.carry_reach,
                     }
                 }),
             }),
@@ -529,6 +549,7 @@ impl Dump {
                         slop: non_negative("soft.slop", k.slop)?,
                         linear_damping: non_negative("soft.linear_damping", k.linear_damping)?,
                         angular_damping: non_negative("soft.angular_damping", k.angular_damping)?,
+                        carry_reach: non_negative("soft.carry_reach", k.carry_reach)?,
                     },
                 },
             },
@@ -773,6 +794,21 @@ impl Dump {
                 }
                 _ => return Err(bad("warm holds one or two points")),
             }
+            if let Some(k) = &c.carried {
+                if c.b.is_none() {
+                    return Err(bad("only a pair of grains carries a manifold"));
+                }
+                let parts = CarriedParts {
+                    pose: k.pose,
+                    normal: k.normal,
+                    witness: k.witness,
+                    points: k.points.clone(),
+                };
+                world
+                    .soft
+                    .carried
+                    .insert(key, Carried::from_parts(&parts).map_err(bad)?);
+            }
         }
         // The velocities the dump reports stay the world's until its next step.
         world.set_velocities(&velocities);
@@ -802,7 +838,13 @@ impl Dump {
 /// state).
 fn kept_contacts(world: &World) -> Vec<ContactJson> {
     let soft = &world.soft;
-    let mut keys: Vec<_> = soft.kept.keys().chain(soft.warm.keys()).copied().collect();
+    let mut keys: Vec<_> = soft
+        .kept
+        .keys()
+        .chain(soft.warm.keys())
+        .chain(soft.carried.keys())
+        .copied()
+        .collect();
     keys.sort_unstable();
     keys.dedup();
     keys.into_iter()
@@ -827,6 +869,15 @@ fn kept_contacts(world: &World) -> Vec<ContactJson> {
                     std::iter::once(a1.to_array())
                         .chain(a2.map(Vec2::to_array))
                         .collect()
+                }),
+                carried: soft.carried.get(&key).map(|c| {
+                    let p = c.to_parts();
+                    CarriedJson {
+                        pose: p.pose,
+                        normal: p.normal,
+                        witness: p.witness,
+                        points: p.points,
+                    }
                 }),
             }
         })

@@ -38,6 +38,16 @@ impl Pose {
         }
     }
 
+    /// A pose from its three parts as [`Self::relative`] made them (a rotation composed, not
+    /// the sine and cosine of the angle), for state read back bit for bit.
+    pub(crate) fn from_rotation(center: Vec2, angle: f64, rotation: Rotation) -> Self {
+        Pose {
+            center,
+            angle,
+            rotation,
+        }
+    }
+
     pub fn center(&self) -> Vec2 {
         self.center
     }

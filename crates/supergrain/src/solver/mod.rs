@@ -7,6 +7,7 @@
 //! turning it, pushes that never point into the other grain and are capped, two closing sweeps
 //! over all grains (or, for deep heaps, one shock-propagation sweep from the floor up), and
 //! deeper quadtrees for walls and for pairs with a star.
+pub mod carry;
 mod response;
 pub mod soft;
 pub mod strips;

@@ -31,6 +31,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rayon::prelude::*;
 
+use super::carry::Carried;
 use super::{Body, NarrowPhase, Settings, StepStats, Stopped, Walls, pair_precision};
 use crate::broad_phase::BroadPhase;
 use crate::contact::manifold::{Manifold, grain_manifold, wall_manifold};
@@ -143,6 +144,10 @@ pub struct SoftSettings {
     /// Air drag on the linear and angular velocities (per second); 0: none.
     pub linear_damping: f64,
     pub angular_damping: f64,
+    /// How far a pair's points may move against each other (in A's frame, units) before
+    /// its carried manifold is searched afresh ([`super::carry`]); 0: every pair searched
+    /// every step.
+    pub carry_reach: f64,
 }
 
 impl Default for SoftSettings {
@@ -156,6 +161,7 @@ impl Default for SoftSettings {
             slop: 0.005,
             linear_damping: 0.0,
             angular_damping: 0.0,
+            carry_reach: 5e-4,
         }
     }
 }
@@ -275,6 +281,9 @@ pub struct SoftWorkspace {
     /// step's, kept when the step is whole).
     pub warm: FxHashMap<PairKey, WarmStart>,
     next_warm: FxHashMap<PairKey, WarmStart>,
+    /// Each overlapping pair's manifold as last searched ([`super::carry`]).
+    pub carried: FxHashMap<PairKey, Carried>,
+    next_carried: FxHashMap<PairKey, Carried>,
     predicted: Vec<Pose>,
     /// Each grain's rotation from its pose to its predicted one.
     turns: Vec<Rotation>,
@@ -620,32 +629,50 @@ fn find_contacts<B: BroadPhase + Sync>(
             .zip(&work.predicted)
             .map(|(b, p)| Rotation::new(p.angle() - b.angle)),
     );
-    let (predicted, turns) = (&work.predicted, &work.turns);
+    let (predicted, turns, carried) = (&work.predicted, &work.turns, &work.carried);
+    let reach = settings.soft.carry_reach;
     // Each pair's manifold, anchored below: a constraint is four times a manifold's size, and
     // moving constraints out of the parallel answers was 2-3% of a settled heap's step.
-    let found: Vec<Option<(Option<Manifold>, Option<WarmStart>)>> = work
+    type Found = (Option<Manifold>, Option<WarmStart>, Option<Carried>);
+    let found: Vec<Option<Found>> = work
         .pairs
         .par_iter()
         .map(|&(i, j, warm)| {
             if stop.load(Ordering::Relaxed) {
                 return None;
             }
-            let mut warm = warm;
             let (a, b) = (&bodies[i], &bodies[j]);
-            let c = pair_contact(settings, a, &predicted[i], b, &predicted[j], &mut warm);
+            let (pa, pb) = (&predicted[i], &predicted[j]);
+            let carry = reach > 0.0
+                && settings.narrow_phase == NarrowPhase::Interval
+                && !(a.shape.is_circle() && b.shape.is_circle());
+            if carry
+                && let Some(c) = carried.get(&(i, j))
+                && let Some(m) = c.manifold(&a.shape, pa, &b.shape, pb, reach)
+            {
+                return Some((Some(m), warm, Some(*c)));
+            }
+            let mut warm = warm;
+            let c = pair_contact(settings, a, pa, b, pb, &mut warm);
             // The manifold here too, on all cores: a blocky pair's patch search costs more than
             // its narrow phase.
-            let m = c.penetration.map(|p| {
-                grain_manifold(
-                    &a.shape,
-                    &predicted[i],
-                    &b.shape,
-                    &predicted[j],
-                    &p,
-                    PATCH_MARGIN * settings.soft.slop,
-                )
-            });
-            Some((m, warm))
+            let Some(p) = c.penetration else {
+                return Some((None, warm, None));
+            };
+            let m = grain_manifold(
+                &a.shape,
+                pa,
+                &b.shape,
+                pb,
+                &p,
+                PATCH_MARGIN * settings.soft.slop,
+            );
+            let kept = if carry {
+                Carried::new(&a.shape, pa, &b.shape, pb, &m, &p)
+            } else {
+                None
+            };
+            Some((Some(m), warm, kept))
         })
         .collect();
     if stop.load(Ordering::Relaxed) {
@@ -656,12 +683,16 @@ fn find_contacts<B: BroadPhase + Sync>(
         ..StepStats::default()
     };
     work.next_warm.clear();
+    work.next_carried.clear();
     work.constraints.clear();
     // In the pairs' order; the manifolds anchored here, one constraint each.
     for (&(i, j, _), answer) in work.pairs.iter().zip(&found) {
-        let (manifold, warm) = answer.as_ref().expect("not stopped");
+        let (manifold, warm, kept) = answer.as_ref().expect("not stopped");
         if let Some(w) = warm {
             work.next_warm.insert((i, j), *w);
+        }
+        if let Some(c) = kept {
+            work.next_carried.insert((i, j), *c);
         }
         if let Some(m) = manifold {
             work.constraints
@@ -1143,6 +1174,7 @@ fn forces(bodies: &[Body], hs: f64, work: &mut SoftWorkspace) {
 /// Stage 5: each contact's impulses, by pair and point, for the next step's warm start.
 fn keep(work: &mut SoftWorkspace) {
     std::mem::swap(&mut work.warm, &mut work.next_warm);
+    std::mem::swap(&mut work.carried, &mut work.next_carried);
     // Contacts between sleepers were not solved: they keep what they had.
     let awake = &work.awake;
     let asleep = |i: usize| !awake.get(i).copied().unwrap_or(true);

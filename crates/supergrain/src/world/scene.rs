@@ -325,6 +325,7 @@ impl Scene {
                     slop: s.slop.map_or(d.slop, |v| v.0),
                     linear_damping: s.linear_damping.map_or(d.linear_damping, |v| v.0),
                     angular_damping: s.angular_damping.map_or(d.angular_damping, |v| v.0),
+                    carry_reach: s.carry_reach.map_or(d.carry_reach, |v| v.0),
                 }
             },
         };
@@ -606,6 +607,7 @@ struct SolverSpec {
     damping_ratio: Option<NonNegative>,
     push_out: Option<Positive>,
     restitution_threshold: Option<NonNegative>,
+    carry_reach: Option<NonNegative>,
     linear_damping: Option<NonNegative>,
     angular_damping: Option<NonNegative>,
 }
