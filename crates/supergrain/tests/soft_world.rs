@@ -97,8 +97,7 @@ fn a_dump_with_a_bad_carried_manifold_is_refused_naming_the_contact() {
     let err = Dump::from_json(&dump.to_string())
         .unwrap()
         .to_world()
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     assert!(
         err.contains(&format!("contacts[{k}]")) && err.contains("id is 0, 1 or 2"),
