@@ -804,10 +804,10 @@ impl Dump {
                     witness: k.witness,
                     points: k.points.clone(),
                 };
-                world
-                    .soft
-                    .carried
-                    .insert(key, Carried::from_parts(&parts).map_err(bad)?);
+                let carried = Carried::from_parts(&parts).map_err(bad)?;
+                let radius = |i: usize| world.bodies[i].shape.bounding_radius();
+                carried.fits(radius(key.0), radius(key.1)).map_err(bad)?;
+                world.soft.carried.insert(key, carried);
             }
         }
         // The velocities the dump reports stay the world's until its next step.
