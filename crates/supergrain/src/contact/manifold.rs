@@ -23,7 +23,7 @@
 
 use super::certified::radial_to_boundary;
 use super::{Penetration, WallPenetration};
-use crate::geometry::Vec2;
+use crate::geometry::{Aabb, Vec2};
 use crate::shape::{HalfPlane, Pose, Superellipse};
 
 /// At most this many points per manifold: the middle and the two ends.
@@ -253,11 +253,16 @@ const STAR_SAMPLES: u32 = 96;
 /// its separation. A star's boundary sampled at evenly spaced classic parameters
 /// ([`Superellipse::boundary_point`]): they crowd at the spikes' tips, which is where a star
 /// touches.
+///
+/// `near`: where the other shape's samples can be within the margin (its box grown by the
+/// margin), if known: a quadrant of the star whose box lies wholly outside it has no sample in
+/// a region, and its samples are not computed (their gap would be infinite anyway).
 fn regions(
     shape: &Superellipse,
     pose: &Pose,
     gap: impl Fn(Vec2) -> f64,
     margin: f64,
+    near: Option<Aabb>,
 ) -> Vec<(Vec2, f64)> {
     // The parameter turned by a rotation per sample rather than a `sin_cos`, and the samples'
     // powers in single precision ([`pow32`]): a star's contact takes 192 samples a step, and
@@ -271,9 +276,40 @@ fn regions(
     let [ex, ey] = shape.exponents();
     let (kx, ky) = (2.0 / ex, 2.0 / ey);
     let axes = shape.semi_axes();
+    // Whether each quadrant's box (by the signs of the sample's cosine and sine, which are
+    // its point's) meets `near`, its corners in world coordinates padded over their rounding.
+    let meets = |fx: f64, fy: f64| {
+        let Some(near) = near else {
+            return true;
+        };
+        let corners = [(0.0, 0.0), (fx, 0.0), (0.0, fy), (fx, fy)]
+            .map(|(u, v)| pose.to_world(Vec2::new(u * axes.x, v * axes.y)));
+        let pad = 1e-9 * (axes.x + axes.y + pose.center().x.abs() + pose.center().y.abs());
+        let (mut lo, mut hi) = (corners[0], corners[0]);
+        for c in corners {
+            (lo.x, lo.y) = (lo.x.min(c.x), lo.y.min(c.y));
+            (hi.x, hi.y) = (hi.x.max(c.x), hi.y.max(c.y));
+        }
+        !(hi.x + pad < near.min.x
+            || lo.x - pad > near.max.x
+            || hi.y + pad < near.min.y
+            || lo.y - pad > near.max.y)
+    };
+    let quadrants = [
+        [meets(1.0, 1.0), meets(1.0, -1.0)],
+        [meets(-1.0, 1.0), meets(-1.0, -1.0)],
+    ];
     let (mut sin, mut cos) = (0.0f64, 1.0f64);
     let mut samples = Vec::with_capacity(STAR_SAMPLES as usize);
     for _ in 0..STAR_SAMPLES {
+        if !quadrants[usize::from(cos.signum() < 0.0)][usize::from(sin.signum() < 0.0)] {
+            samples.push((Vec2::ZERO, f64::INFINITY));
+            (cos, sin) = (
+                cos * step_cos - sin * step_sin,
+                sin * step_cos + cos * step_sin,
+            );
+            continue;
+        }
         let local = Vec2::new(
             axes.x * cos.signum() * pow32(cos, kx),
             axes.y * sin.signum() * pow32(sin, ky),
@@ -341,14 +377,19 @@ pub fn grain_manifold(
         // computed (most of a star's samples; the regions were a third of `pour-mixed.toml`'s
         // time). It also keeps such samples out of the regions where `f / |grad f|`, which
         // reads short of the distance away from a grain, would have let them in.
+        // (And a quadrant of the star whose box is beyond it has no sample computed.)
+        let near = |s: &Superellipse, pose: &Pose| {
+            let b = s.bounding_box(pose);
+            let m = Vec2::new(margin, margin);
+            Aabb::new(b.min - m, b.max + m)
+        };
         let gap = |s: Superellipse, pose: Pose| {
-            let near = s.bounding_box(&pose);
-            let (lo, hi) = (near.min, near.max);
+            let near = near(&s, &pose);
             move |q: Vec2| {
-                let inside = q.x >= lo.x - margin
-                    && q.x <= hi.x + margin
-                    && q.y >= lo.y - margin
-                    && q.y <= hi.y + margin;
+                let inside = q.x >= near.min.x
+                    && q.x <= near.max.x
+                    && q.y >= near.min.y
+                    && q.y <= near.max.y;
                 if inside {
                     separation(&s, &pose, q)
                 } else {
@@ -356,8 +397,14 @@ pub fn grain_manifold(
                 }
             }
         };
-        let mut found = regions(a, pose_a, gap(*b, *pose_b), margin);
-        found.extend(regions(b, pose_b, gap(*a, *pose_a), margin));
+        let mut found = regions(a, pose_a, gap(*b, *pose_b), margin, Some(near(b, pose_b)));
+        found.extend(regions(
+            b,
+            pose_b,
+            gap(*a, *pose_a),
+            margin,
+            Some(near(a, pose_a)),
+        ));
         m.regions(found, min_gap(a, b));
         return m;
     }
@@ -384,7 +431,7 @@ pub fn wall_manifold(
     let middle = p.deepest + p.push * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
     if star(shape) {
-        let found = regions(shape, pose, |q: Vec2| wall.value(q), margin);
+        let found = regions(shape, pose, |q: Vec2| wall.value(q), margin, None);
         m.regions(found, min_gap(shape, shape));
         return m;
     }
