@@ -8,8 +8,10 @@
 //! One step of length `h`, in named stages:
 //! 1. [`find_contacts`]: every pair whose boxes overlap at the poses the grains would reach
 //!    in free flight (`x + h (v + h g)`, `theta + h omega`) is tested there, by the certified
-//!    narrow phase. Testing where the grains are going is the speculative margin: a grain that
-//!    would reach another within the step gets its contact before it gets there. Each overlap
+//!    narrow phase, except a pair that has hardly moved against the other since it was last
+//!    searched, whose contact is carried, moved to first order and its overlap proven again
+//!    ([`super::carry`]). Testing where the grains are going is the speculative margin: a
+//!    grain that would reach another within the step gets its contact before it gets there. Each overlap
 //!    becomes a [`Manifold`] (the middle of the overlap, and the region's ends where flat faces
 //!    meet), its points anchored in the bodies and its separation carried back to the step's
 //!    start.
