@@ -76,6 +76,12 @@ pub struct Args {
     /// (`sleep_islands = true` in the scene), whose forces balance.
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
     sleep_radius: Option<f64>,
+    /// Soft model: override the scene's (or the dump's) `carry_reach`, how far a pair of
+    /// grains may move against each other before its contact, carried from step to step, is
+    /// searched afresh (default 0.0005); 0 searches every pair every step, as before contacts
+    /// were carried (docs/physics.md).
+    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
+    carry_reach: Option<f64>,
     /// Write the final state as JSON (restartable with --resume).
     #[arg(long, value_name = "FILE.json")]
     dump: Option<PathBuf>,
@@ -168,6 +174,12 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let svg = plans.file("--svg", args.svg.as_deref())?;
     let png = plans.file("--png", args.png.as_deref())?;
     let trajectory_to = plans.file("--trajectory", args.trajectory.as_deref())?;
+    if args.carry_reach.is_some() && world.settings.model != Model::Soft {
+        bail!(
+            "--carry-reach needs the soft model ([solver] model = \"soft\"): the paper's \
+             projection searches every pair at every pass"
+        );
+    }
     if args.forces.is_some() && world.settings.model != Model::Soft {
         bail!(
             "--forces needs the soft model ([solver] model = \"soft\"): the paper's projection \
@@ -521,6 +533,9 @@ fn load(args: &Args) -> Result<(World, u64)> {
         if let Some(n) = narrow {
             world.settings.narrow_phase = n;
         }
+        if let Some(r) = args.carry_reach {
+            world.settings.soft.carry_reach = r + 0.0;
+        }
         if let Some(r) = sleep_radius {
             world.settings.sleep_radius = r;
             // A new radius starts every grain's calm afresh: the counts and anchors of the
@@ -553,6 +568,9 @@ fn load(args: &Args) -> Result<(World, u64)> {
     }
     if let Some(n) = narrow {
         scene.settings.narrow_phase = n;
+    }
+    if let Some(r) = args.carry_reach {
+        scene.settings.soft.carry_reach = r + 0.0;
     }
     if let Some(r) = sleep_radius {
         if r > 0.0 && scene.settings.sleep_steps == 0 {

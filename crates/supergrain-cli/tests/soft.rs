@@ -584,3 +584,46 @@ fn a_heap_asleep_by_islands_reports_forces_that_balance() {
         assert_eq!(read_bytes(&whole), read_bytes(&rest), "cut at step {cut}");
     }
 }
+
+/// `--carry-reach` overrides the scene's `carry_reach`: 0 from the shell gives the run a scene
+/// saying 0 gives, bit for bit, and not the default's (whose carried contacts differ); a
+/// negative reach and the paper's model are refused, naming the flag.
+#[test]
+fn carry_reach_from_the_shell_is_the_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = write_scene(dir.path(), "plain.toml", SCENE);
+    let zero = write_scene(
+        dir.path(),
+        "zero.toml",
+        &SCENE.replace("model = \"soft\"", "model = \"soft\"\ncarry_reach = 0.0"),
+    );
+    let run = |scene: &std::path::Path, extra: &[&str], out: &str| {
+        let dump = dir.path().join(out);
+        let mut args = vec!["run", p(scene), "--steps", "400", "--dump", p(&dump), "-q"];
+        args.extend_from_slice(extra);
+        ok(&sg(&args));
+        std::fs::read_to_string(&dump).unwrap()
+    };
+    let from_shell = run(&plain, &["--carry-reach", "0"], "a.json");
+    let from_scene = run(&zero, &[], "b.json");
+    let default = run(&plain, &[], "c.json");
+    assert_eq!(from_shell, from_scene);
+    assert_ne!(from_shell, default, "the default carries contacts");
+    assert!(default.contains("\"carried\"") && !from_shell.contains("\"carried\""));
+    let bad = sg(&["run", p(&plain), "--carry-reach", "-1", "-q"]);
+    let err = stderr(&bad);
+    assert_eq!(bad.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--carry-reach") && err.contains(">= 0"),
+        "{err}"
+    );
+    let err = failed(&sg(&[
+        "run",
+        "--preset",
+        "mixed",
+        "--carry-reach",
+        "0",
+        "-q",
+    ]));
+    assert!(err.contains("--carry-reach needs the soft model"), "{err}");
+}
