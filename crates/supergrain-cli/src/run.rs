@@ -504,7 +504,10 @@ fn positive_number(s: &str) -> Result<f64, String> {
 
 fn load(args: &Args) -> Result<(World, u64)> {
     // `+ 0.0`: -0 is 0 (and is written so in dumps).
-    let sleep_radius = args.sleep_radius.map(|r| r + 0.0);
+    let (sleep_radius, carry_reach) = (
+        args.sleep_radius.map(|r| r + 0.0),
+        args.carry_reach.map(|r| r + 0.0),
+    );
     let narrow = args.narrow_phase.map(|n| match n {
         NarrowPhaseArg::Interval => NarrowPhase::Interval,
         NarrowPhaseArg::Quadtree => NarrowPhase::Quadtree,
@@ -533,8 +536,8 @@ fn load(args: &Args) -> Result<(World, u64)> {
         if let Some(n) = narrow {
             world.settings.narrow_phase = n;
         }
-        if let Some(r) = args.carry_reach {
-            world.settings.soft.carry_reach = r + 0.0;
+        if let Some(r) = carry_reach {
+            world.settings.soft.carry_reach = r;
         }
         if let Some(r) = sleep_radius {
             world.settings.sleep_radius = r;
@@ -569,8 +572,8 @@ fn load(args: &Args) -> Result<(World, u64)> {
     if let Some(n) = narrow {
         scene.settings.narrow_phase = n;
     }
-    if let Some(r) = args.carry_reach {
-        scene.settings.soft.carry_reach = r + 0.0;
+    if let Some(r) = carry_reach {
+        scene.settings.soft.carry_reach = r;
     }
     if let Some(r) = sleep_radius {
         if r > 0.0 && scene.settings.sleep_steps == 0 {

@@ -207,6 +207,12 @@ impl Aabb {
         (b.min.x <= b.max.x && b.min.y <= b.max.y).then_some(b)
     }
 
+    /// The box grown by `d` on every side.
+    pub fn grown(&self, d: f64) -> Aabb {
+        let d = Vec2::new(d, d);
+        Aabb::new(self.min - d, self.max + d)
+    }
+
     /// The smallest box holding both.
     pub fn union(&self, o: &Aabb) -> Aabb {
         Aabb {

@@ -59,8 +59,7 @@ impl Grid {
     }
 
     fn fatten(&self, b: &Aabb) -> Aabb {
-        let m = Vec2::new(MARGIN * self.cell, MARGIN * self.cell);
-        Aabb::new(b.min - m, b.max + m)
+        b.grown(MARGIN * self.cell)
     }
 
     fn file(&mut self, i: usize) {

@@ -282,18 +282,13 @@ fn regions(
         let Some(near) = near else {
             return true;
         };
-        let corners = [(0.0, 0.0), (fx, 0.0), (0.0, fy), (fx, fy)]
-            .map(|(u, v)| pose.to_world(Vec2::new(u * axes.x, v * axes.y)));
         let pad = 1e-9 * (axes.x + axes.y + pose.center().x.abs() + pose.center().y.abs());
-        let (mut lo, mut hi) = (corners[0], corners[0]);
-        for c in corners {
-            (lo.x, lo.y) = (lo.x.min(c.x), lo.y.min(c.y));
-            (hi.x, hi.y) = (hi.x.max(c.x), hi.y.max(c.y));
-        }
-        !(hi.x + pad < near.min.x
-            || lo.x - pad > near.max.x
-            || hi.y + pad < near.min.y
-            || lo.y - pad > near.max.y)
+        [(fx, 0.0), (0.0, fy), (fx, fy)]
+            .map(|(u, v)| Aabb::point(pose.to_world(Vec2::new(u * axes.x, v * axes.y))))
+            .iter()
+            .fold(Aabb::point(pose.to_world(Vec2::ZERO)), |b, c| b.union(c))
+            .grown(pad)
+            .intersects(&near)
     };
     let quadrants = [
         [meets(1.0, 1.0), meets(1.0, -1.0)],
@@ -302,20 +297,16 @@ fn regions(
     let (mut sin, mut cos) = (0.0f64, 1.0f64);
     let mut samples = Vec::with_capacity(STAR_SAMPLES as usize);
     for _ in 0..STAR_SAMPLES {
-        if !quadrants[usize::from(cos.signum() < 0.0)][usize::from(sin.signum() < 0.0)] {
-            samples.push((Vec2::ZERO, f64::INFINITY));
-            (cos, sin) = (
-                cos * step_cos - sin * step_sin,
-                sin * step_cos + cos * step_sin,
+        if quadrants[usize::from(cos.signum() < 0.0)][usize::from(sin.signum() < 0.0)] {
+            let local = Vec2::new(
+                axes.x * cos.signum() * pow32(cos, kx),
+                axes.y * sin.signum() * pow32(sin, ky),
             );
-            continue;
+            let q = pose.to_world(local);
+            samples.push((q, gap(q)));
+        } else {
+            samples.push((Vec2::ZERO, f64::INFINITY));
         }
-        let local = Vec2::new(
-            axes.x * cos.signum() * pow32(cos, kx),
-            axes.y * sin.signum() * pow32(sin, ky),
-        );
-        let q = pose.to_world(local);
-        samples.push((q, gap(q)));
         (cos, sin) = (
             cos * step_cos - sin * step_sin,
             sin * step_cos + cos * step_sin,
@@ -378,32 +369,26 @@ pub fn grain_manifold(
         // time). It also keeps such samples out of the regions where `f / |grad f|`, which
         // reads short of the distance away from a grain, would have let them in.
         // (And a quadrant of the star whose box is beyond it has no sample computed.)
-        let near = |s: &Superellipse, pose: &Pose| {
-            let b = s.bounding_box(pose);
-            let m = Vec2::new(margin, margin);
-            Aabb::new(b.min - m, b.max + m)
-        };
-        let gap = |s: Superellipse, pose: Pose| {
-            let near = near(&s, &pose);
+        let (near_a, near_b) = (
+            a.bounding_box(pose_a).grown(margin),
+            b.bounding_box(pose_b).grown(margin),
+        );
+        let gap = |s: Superellipse, pose: Pose, near: Aabb| {
             move |q: Vec2| {
-                let inside = q.x >= near.min.x
-                    && q.x <= near.max.x
-                    && q.y >= near.min.y
-                    && q.y <= near.max.y;
-                if inside {
+                if near.contains(q) {
                     separation(&s, &pose, q)
                 } else {
                     f64::INFINITY
                 }
             }
         };
-        let mut found = regions(a, pose_a, gap(*b, *pose_b), margin, Some(near(b, pose_b)));
+        let mut found = regions(a, pose_a, gap(*b, *pose_b, near_b), margin, Some(near_b));
         found.extend(regions(
             b,
             pose_b,
-            gap(*a, *pose_a),
+            gap(*a, *pose_a, near_a),
             margin,
-            Some(near(a, pose_a)),
+            Some(near_a),
         ));
         m.regions(found, min_gap(a, b));
         return m;

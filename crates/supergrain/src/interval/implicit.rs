@@ -329,14 +329,10 @@ impl PlacedSuperellipse {
             let v = gx.times(d1[0]).plus(gy.times(d1[1]));
             let acc = gx.times(d2[0]).plus(gy.times(d2[1]));
             // `(u')^2` enclosed: from 0 where `u'` may vanish.
-            let (v_lo, v_hi) = (v.lo.abs().min(v.hi.abs()), v.lo.abs().max(v.hi.abs()));
+            let v = v.abs();
             let square = Interval::new(
-                if v.lo <= 0.0 && v.hi >= 0.0 {
-                    0.0
-                } else {
-                    down(v_lo * v_lo)
-                },
-                up(v_hi * v_hi),
+                if v.lo == 0.0 { 0.0 } else { down(v.lo * v.lo) },
+                up(v.hi * v.hi),
             );
             let a = t.abs();
             let k = Exponent::new(e - 2.0);

@@ -149,21 +149,9 @@ pub struct ContactJson {
     /// Newton's last points for the pair, in A's frame: `[A1]` or `[A1, A2]`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warm: Vec<[f64; 2]>,
-    /// The pair's manifold carried from the step it was last searched
-    /// (`solver::carry::CarriedParts`).
+    /// The pair's manifold carried from the step it was last searched.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub carried: Option<CarriedJson>,
-}
-
-/// A carried manifold: B's pose in A's frame `[x, y, angle, cos, sin]`, the normal and a point
-/// proven inside both grains in A's frame, and each point `[x, y, separation, id]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CarriedJson {
-    pub pose: [f64; 5],
-    pub normal: [f64; 2],
-    pub witness: [f64; 2],
-    pub points: Vec<[f64; 4]>,
+    pub carried: Option<CarriedParts>,
 }
 
 /// A grain drawn that has not appeared yet.
@@ -798,13 +786,7 @@ impl Dump {
                 if c.b.is_none() {
                     return Err(bad("only a pair of grains carries a manifold"));
                 }
-                let parts = CarriedParts {
-                    pose: k.pose,
-                    normal: k.normal,
-                    witness: k.witness,
-                    points: k.points.clone(),
-                };
-                let carried = Carried::from_parts(&parts).map_err(bad)?;
+                let carried = Carried::from_parts(k).map_err(bad)?;
                 let radius = |i: usize| world.bodies[i].shape.bounding_radius();
                 carried.fits(radius(key.0), radius(key.1)).map_err(bad)?;
                 world.soft.carried.insert(key, carried);
@@ -870,15 +852,7 @@ fn kept_contacts(world: &World) -> Vec<ContactJson> {
                         .chain(a2.map(Vec2::to_array))
                         .collect()
                 }),
-                carried: soft.carried.get(&key).map(|c| {
-                    let p = c.to_parts();
-                    CarriedJson {
-                        pose: p.pose,
-                        normal: p.normal,
-                        witness: p.witness,
-                        points: p.points,
-                    }
-                }),
+                carried: soft.carried.get(&key).map(Carried::to_parts),
             }
         })
         .collect()

@@ -32,11 +32,7 @@ const TINT_B: Rgba = [0x6a, 0x1b, 0x9a, 70];
 /// The view of a diagram: `region` with 15% around it, `width` pixels wide.
 fn view_around(region: Aabb, width: u32) -> View {
     let pad = 0.15 * region.width().max(region.height());
-    let r = Aabb::new(
-        region.min - Vec2::new(pad, pad),
-        region.max + Vec2::new(pad, pad),
-    );
-    View::fit(r, width)
+    View::fit(region.grown(pad), width)
 }
 
 fn blank(view: &View) -> Pixmap {

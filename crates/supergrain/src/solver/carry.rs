@@ -83,10 +83,11 @@ fn proven_inside(a: &PlacedSuperellipse, b: &PlacedSuperellipse, w: Vec2) -> boo
     w.is_finite() && a.enclose_point(w).hi < 0.0 && b.enclose_point(w).hi < 0.0
 }
 
-/// A carried manifold as numbers, for a dump: B's pose in A's frame (`[x, y, angle, cos,
-/// sin]`, its rotation as it was composed), the normal and the witness in A's frame, and each
-/// point `[x, y, separation, id]`.
-#[derive(Clone, Debug, PartialEq)]
+/// A carried manifold as numbers, for a dump (`contacts[].carried`): B's pose in A's frame
+/// (`[x, y, angle, cos, sin]`, its rotation as it was composed), the normal and the witness
+/// in A's frame, and each point `[x, y, separation, id]`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct CarriedParts {
     pub pose: [f64; 5],
     pub normal: [f64; 2],
@@ -153,7 +154,7 @@ impl Carried {
         }
         Ok(Carried {
             rel: Pose::from_rotation(Vec2::new(x, y), angle, Rotation { cos, sin }),
-            normal: Vec2::from(*normal),
+            normal: n,
             witness: Vec2::from(*witness),
             points: out,
             len: points.len(),

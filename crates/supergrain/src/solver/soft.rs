@@ -633,6 +633,7 @@ fn find_contacts<B: BroadPhase + Sync>(
     );
     let (predicted, turns, carried) = (&work.predicted, &work.turns, &work.carried);
     let reach = settings.soft.carry_reach;
+    let carrying = reach > 0.0 && settings.narrow_phase == NarrowPhase::Interval;
     // Each pair's manifold, anchored below: a constraint is four times a manifold's size, and
     // moving constraints out of the parallel answers was 2-3% of a settled heap's step.
     type Found = (Option<Manifold>, Option<WarmStart>, Option<Carried>);
@@ -645,9 +646,7 @@ fn find_contacts<B: BroadPhase + Sync>(
             }
             let (a, b) = (&bodies[i], &bodies[j]);
             let (pa, pb) = (&predicted[i], &predicted[j]);
-            let carry = reach > 0.0
-                && settings.narrow_phase == NarrowPhase::Interval
-                && !(a.shape.is_circle() && b.shape.is_circle());
+            let carry = carrying && !(a.shape.is_circle() && b.shape.is_circle());
             if carry
                 && let Some(c) = carried.get(&(i, j))
                 && let Some(m) = c.manifold(&a.shape, pa, &b.shape, pb, reach)
@@ -669,11 +668,9 @@ fn find_contacts<B: BroadPhase + Sync>(
                 &p,
                 PATCH_MARGIN * settings.soft.slop,
             );
-            let kept = if carry {
-                Carried::new(&a.shape, pa, &b.shape, pb, &m, &p)
-            } else {
-                None
-            };
+            let kept = carry
+                .then(|| Carried::new(&a.shape, pa, &b.shape, pb, &m, &p))
+                .flatten();
             Some((Some(m), warm, kept))
         })
         .collect();
