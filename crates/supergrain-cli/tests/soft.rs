@@ -61,20 +61,27 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
     assert!(rows.iter().all(|r| r.len() == 11), "11 columns a row");
     let last: Vec<_> = rows.iter().filter(|r| r[0] == "900").collect();
     assert!(last.len() > 30, "{} contacts at the last step", last.len());
-    // The floor holds the heap: its contacts' vertical forces add up to the heap's weight
-    // (every grain has landed and rests by step 900; density 1, g 9.8).
-    let floor_up: f64 = last
+    // The walls hold the heap: their contacts' vertical forces, normal and tangential, add
+    // up to the heap's weight (every grain has landed and rests by step 900; density 1, g
+    // 9.8). The floor alone need not: the side walls' friction can hold some weight up or,
+    // locked in as the heap settled, press it down (measured: the floor 58.2 or 61.7, with
+    // the contacts solved in another order, against a weight of 58.5).
+    let wall_up: f64 = last
         .iter()
-        .filter(|r| r[4] == "2")
-        .map(|r| r[8].parse::<f64>().unwrap() * r[9].parse::<f64>().unwrap())
+        .filter(|r| !r[4].is_empty())
+        .map(|r| {
+            let f = |k: usize| r[k].parse::<f64>().unwrap();
+            // The tangent is (n.y, -n.x): its vertical part is -n.x.
+            f(8) * f(9) - f(7) * f(10)
+        })
         .sum();
     let heap = std::fs::read_to_string(&dump).unwrap();
     let d: serde_json::Value = serde_json::from_str(&heap).unwrap();
     let weight: f64 = d["particles"].as_array().unwrap().iter().map(weight).sum();
     assert_eq!(d["particles"].as_array().unwrap().len(), 30);
     assert!(
-        (floor_up - weight).abs() <= 0.05 * weight,
-        "the floor pushes up {floor_up}, the heap weighs {weight}"
+        (wall_up - weight).abs() <= 1e-3 * weight,
+        "the walls push up {wall_up}, the heap weighs {weight}"
     );
 }
 

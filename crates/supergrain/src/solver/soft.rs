@@ -18,15 +18,18 @@
 //! 2. [`prepare`]: effective masses along the normal and the tangent, the soft-constraint
 //!    coefficients, the relative normal velocity (for restitution), friction and restitution
 //!    mixed from the two materials.
-//! 3. `substeps` times: gravity and damping on the velocities, [`warm_start`] (the impulses the
-//!    contact kept from the last step, then those of the last substep), [`solve`] with the
-//!    soft push-out, positions integrated, [`solve`] again without it (the "relax" that takes
-//!    the push-out's velocity back out).
+//! 3. `substeps` times: gravity and damping on the velocities, [`warm_one`] (the impulses the
+//!    contact kept from the last step, then those of the last substep), [`solve_one`] with the
+//!    soft push-out, positions integrated, [`solve_one`] again without it (the "relax" that
+//!    takes the push-out's velocity back out). Both run over the contacts in colour batches,
+//!    four independent contacts side by side ([`batch`]).
 //! 4. [`restitution`] on the points that were closing faster than the threshold.
 //! 5. The impulses are kept by pair and point for the next step.
 //!
 //! The separation of a point within the step is updated from the bodies' motion since the
 //! step's start (the anchors turn with the bodies); the narrow phase runs once per step.
+
+mod batch;
 
 use rustc_hash::FxHashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -299,6 +302,8 @@ pub struct SoftWorkspace {
     /// (a sleeper's are 0: it holds its neighbours as a wall does).
     awake: Vec<bool>,
     active: Vec<(f64, f64)>,
+    /// The contacts in colour batches, for the substeps.
+    batches: batch::Batches,
     /// Every contact's force over the last step, in the order of the contacts.
     pub forces: Vec<ContactForce>,
 }
@@ -368,8 +373,10 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
         start,
         solids,
         kept,
+        batches,
         ..
     } = work;
+    batches.build(constraints, bodies.len());
     start.clear();
     start.extend(bodies.iter().map(|b| (b.center, b.angle)));
     solids.clear();
@@ -402,8 +409,8 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
             s.v = (s.v + gravity * hs) * lin;
             s.w *= ang;
         }
-        warm_start(constraints, &mut state);
-        solve(constraints, &mut state, hs, soft, true);
+        batches.warm_start(constraints, &mut state);
+        batches.solve(constraints, &mut state, hs, soft, true);
         for (i, b) in bodies.iter_mut().enumerate().filter(|&(i, _)| awake[i]) {
             let s = &mut state.solids[i];
             b.center += s.v * hs;
@@ -411,8 +418,9 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
             s.shift = b.center - start[i].0;
             s.turn = Rotation::new(b.angle - start[i].1);
         }
-        solve(constraints, &mut state, hs, soft, false);
+        batches.solve(constraints, &mut state, hs, soft, false);
     }
+    batches.write_back(constraints);
     restitution(constraints, &mut state, soft);
     for (i, b) in bodies.iter_mut().enumerate() {
         b.previous_center = start[i].0;
@@ -889,77 +897,90 @@ fn separation(s: &State, c: &Constraint, p: &Point) -> f64 {
     p.base + c.normal.dot(s.moved(c.b, p.rb) - s.moved(c.a, p.ra))
 }
 
-/// Applies the impulses accumulated so far (from the last step, then the last substep).
-fn warm_start(constraints: &[Constraint], s: &mut State) {
-    for c in constraints {
-        let t = Vec2::new(c.normal.y, -c.normal.x);
-        for p in &c.points[..c.len] {
-            let impulse = c.normal * p.normal_impulse + t * p.tangent_impulse;
-            s.apply(c.a, p.ra, impulse, -1.0);
-            s.apply(c.b, p.rb, impulse, 1.0);
-        }
-        s.apply_angular(c.a, -c.rolling_impulse);
-        s.apply_angular(c.b, c.rolling_impulse);
+/// Applies the impulses one contact accumulated so far (from the last step, then the last
+/// substep). The substeps run it for the contacts batch by batch ([`batch`]).
+fn warm_one(c: &Constraint, s: &mut State) {
+    let t = Vec2::new(c.normal.y, -c.normal.x);
+    for p in &c.points[..c.len] {
+        let impulse = c.normal * p.normal_impulse + t * p.tangent_impulse;
+        s.apply(c.a, p.ra, impulse, -1.0);
+        s.apply(c.b, p.rb, impulse, 1.0);
     }
+    s.apply_angular(c.a, -c.rolling_impulse);
+    s.apply_angular(c.b, c.rolling_impulse);
 }
 
-/// One pass over the contacts: the normal impulses, then friction and rolling resistance,
+/// One pass over one contact: the normal impulses, then friction and rolling resistance,
 /// each clamped by the normal impulses just found (solved the other way round, the normal
 /// pass that follows can lower them below what the friction used: measured, a block sliding
 /// down a slope with `mu = 0.3` was held back as if by 0.4). With `bias`, overlaps deeper than
 /// the slop are pushed out softly; without, only the velocities are made to agree (the
-/// relax).
-fn solve(constraints: &mut [Constraint], s: &mut State, hs: f64, soft: &SoftSettings, bias: bool) {
-    for c in constraints.iter_mut() {
-        let n = c.normal;
-        let t = Vec2::new(n.y, -n.x);
-        for k in 0..c.len {
-            let p = c.points[k];
-            let sep = separation(s, c, &p) + soft.slop;
-            let (push, mass_scale, impulse_scale) = if sep > 0.0 {
-                // Apart: the grains may close the gap within the substep, no more.
-                (sep / hs, 1.0, 0.0)
-            } else if bias {
-                (
-                    (c.softness.bias_rate * sep).max(-soft.push_out),
-                    c.softness.mass_scale,
-                    c.softness.impulse_scale,
-                )
-            } else {
-                (0.0, 1.0, 0.0)
-            };
-            let vn = relative(s, c, &p).dot(n);
-            let raw = -p.normal_mass * mass_scale * (vn + push) - impulse_scale * p.normal_impulse;
-            let next = (p.normal_impulse + raw).max(0.0);
-            let d = next - p.normal_impulse;
-            let q = &mut c.points[k];
-            q.normal_impulse = next;
-            q.max_normal_impulse = q.max_normal_impulse.max(next);
-            s.apply(c.a, p.ra, n * d, -1.0);
-            s.apply(c.b, p.rb, n * d, 1.0);
-        }
-        for k in 0..c.len {
-            let p = c.points[k];
-            let vt = relative(s, c, &p).dot(t);
-            let most = c.friction * p.normal_impulse;
-            let next = (p.tangent_impulse - p.tangent_mass * vt).clamp(-most, most);
-            let d = next - p.tangent_impulse;
-            c.points[k].tangent_impulse = next;
-            s.apply(c.a, p.ra, t * d, -1.0);
-            s.apply(c.b, p.rb, t * d, 1.0);
-        }
-        if c.rolling_resistance > 0.0 {
-            let total: f64 = c.points[..c.len].iter().map(|p| p.normal_impulse).sum();
-            let (_, wa) = s.velocity(c.a);
-            let (_, wb) = s.velocity(c.b);
-            let most = c.rolling_resistance * c.lever * total;
-            let old = c.rolling_impulse;
-            c.rolling_impulse = (old - c.rolling_mass * (wb - wa)).clamp(-most, most);
-            let d = c.rolling_impulse - old;
-            s.apply_angular(c.a, -d);
-            s.apply_angular(c.b, d);
-        }
+/// relax). The substeps run it for the contacts batch by batch ([`batch`]).
+fn solve_one(c: &mut Constraint, s: &mut State, hs: f64, soft: &SoftSettings, bias: bool) {
+    let n = c.normal;
+    let t = Vec2::new(n.y, -n.x);
+    for k in 0..c.len {
+        let p = c.points[k];
+        let sep = separation(s, c, &p) + soft.slop;
+        let (push, mass_scale, impulse_scale) = if sep > 0.0 {
+            // Apart: the grains may close the gap within the substep, no more.
+            (sep / hs, 1.0, 0.0)
+        } else if bias {
+            (
+                max(c.softness.bias_rate * sep, -soft.push_out),
+                c.softness.mass_scale,
+                c.softness.impulse_scale,
+            )
+        } else {
+            (0.0, 1.0, 0.0)
+        };
+        let vn = relative(s, c, &p).dot(n);
+        let raw = -p.normal_mass * mass_scale * (vn + push) - impulse_scale * p.normal_impulse;
+        let next = max(p.normal_impulse + raw, 0.0);
+        let d = next - p.normal_impulse;
+        let q = &mut c.points[k];
+        q.normal_impulse = next;
+        q.max_normal_impulse = max(q.max_normal_impulse, next);
+        s.apply(c.a, p.ra, n * d, -1.0);
+        s.apply(c.b, p.rb, n * d, 1.0);
     }
+    for k in 0..c.len {
+        let p = c.points[k];
+        let vt = relative(s, c, &p).dot(t);
+        let most = c.friction * p.normal_impulse;
+        let next = clamp(p.tangent_impulse - p.tangent_mass * vt, -most, most);
+        let d = next - p.tangent_impulse;
+        c.points[k].tangent_impulse = next;
+        s.apply(c.a, p.ra, t * d, -1.0);
+        s.apply(c.b, p.rb, t * d, 1.0);
+    }
+    if c.rolling_resistance > 0.0 {
+        let total = c.points[..c.len]
+            .iter()
+            .fold(0.0, |sum, p| sum + p.normal_impulse);
+        let (_, wa) = s.velocity(c.a);
+        let (_, wb) = s.velocity(c.b);
+        let most = c.rolling_resistance * c.lever * total;
+        let old = c.rolling_impulse;
+        c.rolling_impulse = clamp(old - c.rolling_mass * (wb - wa), -most, most);
+        let d = c.rolling_impulse - old;
+        s.apply_angular(c.a, -d);
+        s.apply_angular(c.b, d);
+    }
+}
+
+/// `a` if it is greater than `b`, else `b`: written out rather than `f64::max`, which leaves
+/// its answer on signed zeros open, so that the lanes of [`batch`] give the same bits.
+#[inline(always)]
+fn max(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// `x` within `[lo, hi]`, `lo` tried first (`f64::clamp`'s order, without its checks).
+#[inline(always)]
+fn clamp(x: f64, lo: f64, hi: f64) -> f64 {
+    let y = if x < lo { lo } else { x };
+    if y > hi { hi } else { y }
 }
 
 /// Stage 4: points that closed faster than the threshold and were pushed get the normal
