@@ -90,10 +90,12 @@ pub struct Args {
     /// Repose: the grains' rolling resistance (Box2D's `rollingResistance`).
     #[arg(long, default_value_t = 0.1, value_name = "MU_R")]
     rolling_resistance: f64,
-    /// Repose: pours per friction and engine, with seeds 1, 2, ...; the angles' mean and spread
-    /// are reported.
-    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..))]
-    seeds: u64,
+    /// Pours: each pour with seeds 1, 2, ..., N (the scene's draws of grains and places), the
+    /// median wall time and steps reported and each seed's in --json [default: the scene's own
+    /// seed alone]. Repose: pours per friction and engine, seeds 1 to N, the angles' mean and
+    /// spread reported [default: 3].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    seeds: Option<u64>,
     /// Repose: disks per pour.
     #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(10..))]
     grains: u64,
@@ -169,6 +171,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             steps: args.rest_steps,
             max_steps: args.max_steps,
         },
+        seeds: args.seeds.map_or(Vec::new(), |n| (1..=n).collect()),
     };
     let cases = bench::cases(&options, &mut |case| eprintln!("running {case}"))
         .map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -182,21 +185,33 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                         (None, None, Some(p.seconds), Some(p.steps), Some(p.at_rest))
                     }
                 };
+                let seeds: Option<Vec<_>> = (!c.seeds.is_empty()).then(|| {
+                    c.seeds
+                        .iter()
+                        .map(|(seed, t)| {
+                            serde_json::json!({
+                                "seed": seed, "seconds": t.seconds, "steps": t.steps,
+                                "at_rest": t.at_rest,
+                            })
+                        })
+                        .collect()
+                });
                 serde_json::json!({
                     "scene": c.scene.name(), "shapes": c.shapes.name(), "engine": c.engine.name(),
                     "threads": c.threads, "grains": c.grains, "ms_per_step": ms,
                     "runs_ms_per_step": runs, "seconds": seconds, "steps": steps,
-                    "at_rest": at_rest, "x_box2d": c.x_box2d,
+                    "at_rest": at_rest, "x_box2d": c.x_box2d, "seeds": seeds,
                 })
             })
             .collect();
         if args.csv {
-            // One value per cell: the repetitions are in the JSON.
+            // One value per cell: the repetitions and the seeds' pours are in the JSON.
             let rows: Vec<_> = rows
                 .into_iter()
                 .map(|mut r| {
                     if let Some(o) = r.as_object_mut() {
                         o.remove("runs_ms_per_step");
+                        o.remove("seeds");
                     }
                     r
                 })
@@ -263,9 +278,35 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
     if o.scenes.iter().any(|&s| s != SceneKind::Heap) {
         println!(
             "pours: wall time until every grain is in and none faster than {} for {} steps (at \
-             most {} steps)",
-            o.rest.speed, o.rest.steps, o.rest.max_steps
+             most {} steps){}",
+            o.rest.speed,
+            o.rest.steps,
+            o.rest.max_steps,
+            if o.seeds.is_empty() {
+                "; the scene's own seed".to_string()
+            } else {
+                format!(
+                    "; the median of seeds 1 to {} (each seed's in --json)",
+                    o.seeds.len()
+                )
+            }
         );
+        // Each seed's pour, where there are several.
+        for c in cases.iter().filter(|c| c.seeds.len() > 1) {
+            let runs: Vec<String> = c
+                .seeds
+                .iter()
+                .map(|(seed, t)| {
+                    format!(
+                        "{seed}: {:.2} s, {}{}",
+                        t.seconds,
+                        t.steps,
+                        if t.at_rest { "" } else { " (not at rest)" }
+                    )
+                })
+                .collect();
+            println!("  {c}: {}", runs.join("; "));
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -299,7 +340,7 @@ fn repose(
     let options = Options {
         frictions: args.frictions.clone(),
         rolling_resistance: args.rolling_resistance,
-        seeds: (1..=args.seeds).collect(),
+        seeds: (1..=args.seeds.unwrap_or(3)).collect(),
         pour: Pour {
             grains: args.grains as usize,
             rest_speed: args.rest_speed,

@@ -107,6 +107,9 @@ pub struct Options {
     pub reps: usize,
     /// Pours: when at rest, and the step cap.
     pub rest: Rest,
+    /// Pours: one pour per seed (the scene's draws of grains and places), the median reported;
+    /// empty: the scene's own seed alone.
+    pub seeds: Vec<u64>,
 }
 
 impl Default for Options {
@@ -120,6 +123,7 @@ impl Default for Options {
             steps: 100,
             reps: 3,
             rest: Rest::default(),
+            seeds: Vec::new(),
         }
     }
 }
@@ -135,6 +139,8 @@ pub struct Case {
     pub result: Measured,
     /// This case's time over Box2D's on the same scene, shapes and threads.
     pub x_box2d: Option<f64>,
+    /// A pour's run per seed, in the order run (`result` is their median).
+    pub seeds: Vec<(u64, PourTiming)>,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -194,9 +200,16 @@ pub fn heap_scene(shapes: Shapes) -> Result<(World, Scene), Error> {
     Ok((world, scene))
 }
 
-/// The neutral pour of a built-in scene.
-pub fn pour(kind: SceneKind, shapes: Shapes) -> Result<(SupergrainScene, Scene), Error> {
-    let scene = pour_scene(kind, shapes)?;
+/// The neutral pour of a built-in scene, with `seed` in place of its own if given.
+pub fn pour(
+    kind: SceneKind,
+    shapes: Shapes,
+    seed: Option<u64>,
+) -> Result<(SupergrainScene, Scene), Error> {
+    let mut scene = pour_scene(kind, shapes)?;
+    if let Some(seed) = seed {
+        scene.seed = seed;
+    }
     let neutral = Scene::pour(&scene).map_err(|e| Error(e.to_string()))?;
     Ok((scene, neutral))
 }
@@ -207,9 +220,18 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
     let mut out = Vec::new();
     for &kind in &options.scenes {
         for &shapes in &options.shapes {
-            let (heap, pour_input) = match kind {
-                SceneKind::Heap => (Some(heap_scene(shapes)?), None),
-                _ => (None, Some(pour(kind, shapes)?)),
+            // A pour per seed (the scene's own when none is asked).
+            let (heap, pours) = match kind {
+                SceneKind::Heap => (Some(heap_scene(shapes)?), Vec::new()),
+                _ if options.seeds.is_empty() => (None, vec![pour(kind, shapes, None)?]),
+                _ => (
+                    None,
+                    options
+                        .seeds
+                        .iter()
+                        .map(|&s| pour(kind, shapes, Some(s)))
+                        .collect::<Result<_, _>>()?,
+                ),
             };
             for &threads in &options.threads {
                 for &engine in &options.engines {
@@ -225,11 +247,14 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                             runs: Vec::new(),
                         }),
                         x_box2d: None,
+                        seeds: Vec::new(),
                     };
-                    progress(&case.to_string());
                     let o = options;
-                    case.result = match (&heap, &pour_input) {
-                        (Some((world, scene)), _) => Measured::Heap(match engine {
+                    if heap.is_some() {
+                        progress(&case.to_string());
+                    }
+                    case.result = match &heap {
+                        Some((world, scene)) => Measured::Heap(match engine {
                             Engine::Supergrain => {
                                 crate::supergrain::heap(world, threads, o.warmup, o.steps, o.reps)
                             }
@@ -247,21 +272,35 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                                 run::heap::<Rapier>(scene, threads, o.warmup, o.steps, o.reps)?
                             }
                         }),
-                        (_, Some((scene, neutral))) => Measured::Pour(match engine {
-                            Engine::Supergrain => crate::supergrain::pour(
-                                &crate::supergrain::paper_scene(scene),
-                                threads,
-                                &o.rest,
-                            ),
-                            Engine::Soft => crate::supergrain::pour(
-                                &crate::supergrain::soft_scene(scene),
-                                threads,
-                                &o.rest,
-                            ),
-                            Engine::Box2d => run::pour::<Box2d>(neutral, threads, &o.rest)?,
-                            Engine::Rapier => run::pour::<Rapier>(neutral, threads, &o.rest)?,
-                        }),
-                        _ => unreachable!("a heap or a pour"),
+                        None => {
+                            for (scene, neutral) in &pours {
+                                progress(&if pours.len() > 1 {
+                                    format!("{case} seed {}", scene.seed)
+                                } else {
+                                    case.to_string()
+                                });
+                                let timing = match engine {
+                                    Engine::Supergrain => crate::supergrain::pour(
+                                        &crate::supergrain::paper_scene(scene),
+                                        threads,
+                                        &o.rest,
+                                    ),
+                                    Engine::Soft => crate::supergrain::pour(
+                                        &crate::supergrain::soft_scene(scene),
+                                        threads,
+                                        &o.rest,
+                                    ),
+                                    Engine::Box2d => run::pour::<Box2d>(neutral, threads, &o.rest)?,
+                                    Engine::Rapier => {
+                                        run::pour::<Rapier>(neutral, threads, &o.rest)?
+                                    }
+                                };
+                                case.seeds.push((scene.seed, timing));
+                            }
+                            let runs: Vec<PourTiming> =
+                                case.seeds.iter().map(|(_, t)| t.clone()).collect();
+                            Measured::Pour(PourTiming::median_of(&runs))
+                        }
                     };
                     case.grains = match &case.result {
                         Measured::Heap(h) => h.grains,

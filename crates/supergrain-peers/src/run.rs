@@ -27,6 +27,21 @@ pub struct PourTiming {
     pub at_rest: bool,
 }
 
+impl PourTiming {
+    /// The pours of several seeds as one: the median wall time and the median steps (each
+    /// taken alone), at rest only if every pour was.
+    pub fn median_of(runs: &[PourTiming]) -> PourTiming {
+        let seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
+        let steps: Vec<f64> = runs.iter().map(|r| r.steps as f64).collect();
+        PourTiming {
+            grains: runs.first().map_or(0, |r| r.grains),
+            seconds: median(&seconds),
+            steps: median(&steps).round() as u64,
+            at_rest: runs.iter().all(|r| r.at_rest),
+        }
+    }
+}
+
 /// The median (the mean of the two middle values for an even count).
 pub fn median(values: &[f64]) -> f64 {
     let mut v = values.to_vec();

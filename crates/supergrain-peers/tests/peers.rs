@@ -342,7 +342,8 @@ fn a_taken_place_makes_a_grain_wait() {
 
 /// A small pour comes to rest in each peer with every grain in the box.
 fn pours_to_rest<P: Peer>() {
-    let (_, mut pour) = bench::pour(SceneKind::Pour1000, Shapes::Mix).expect("the built-in pour");
+    let (_, mut pour) =
+        bench::pour(SceneKind::Pour1000, Shapes::Mix, None).expect("the built-in pour");
     pour.spawns.truncate(40);
     let rest = Rest {
         max_steps: 3000,
@@ -402,4 +403,46 @@ fn box2d_heaps_stand_by_rolling_resistance() {
         with > without + 5.0,
         "with rolling resistance {with} degrees, without {without}"
     );
+}
+
+/// A pour per seed (`bench peers --seeds`): none asked is the scene's own seed, and another seed
+/// draws other grains or places, for supergrain and the peers alike.
+#[test]
+fn a_seed_draws_its_own_pour() {
+    let (own, own_neutral) = bench::pour(SceneKind::Pour1000, Shapes::Mix, None).unwrap();
+    let (same, same_neutral) =
+        bench::pour(SceneKind::Pour1000, Shapes::Mix, Some(own.seed)).unwrap();
+    assert_eq!(same.seed, own.seed);
+    assert_eq!(same_neutral, own_neutral);
+    let (other, other_neutral) =
+        bench::pour(SceneKind::Pour1000, Shapes::Mix, Some(own.seed + 1)).unwrap();
+    assert_eq!(other.seed, own.seed + 1);
+    assert_eq!(other_neutral.spawns.len(), own_neutral.spawns.len());
+    assert_ne!(other_neutral.spawns, own_neutral.spawns);
+}
+
+/// Several seeds' pours read as one: the median wall time and the median steps, each alone
+/// (the mean of the middle two for an even count), at rest only if every pour was.
+#[test]
+fn the_seeds_pours_give_their_medians() {
+    let t = |seconds: f64, steps: u64, at_rest: bool| run::PourTiming {
+        grains: 1000,
+        seconds,
+        steps,
+        at_rest,
+    };
+    let three = [t(3.0, 1700, true), t(1.0, 3100, true), t(2.0, 1600, true)];
+    let m = run::PourTiming::median_of(&three);
+    assert_eq!(
+        (m.seconds, m.steps, m.at_rest, m.grains),
+        (2.0, 1700, true, 1000)
+    );
+    let four = [
+        t(4.0, 1000, true),
+        t(1.0, 3000, false),
+        t(2.0, 2000, true),
+        t(3.0, 4000, true),
+    ];
+    let m = run::PourTiming::median_of(&four);
+    assert_eq!((m.seconds, m.steps, m.at_rest), (2.5, 2500, false));
 }
