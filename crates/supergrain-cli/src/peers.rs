@@ -148,6 +148,12 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
     if args.scene == SceneArg::Repose {
         return repose(&args, engines, threads);
     }
+    if args.scene == SceneArg::Heap && args.seeds.is_some() {
+        anyhow::bail!(
+            "--seeds: the heap is a settled dump and draws nothing; seeds apply to the pours \
+             (--scene pour-1000, pour-10k or all) and to --scene repose"
+        );
+    }
     let options = bench::Options {
         scenes: match args.scene {
             SceneArg::Heap => vec![SceneKind::Heap],
