@@ -243,6 +243,22 @@ struct Point {
     id: u8,
 }
 
+impl Point {
+    /// An unused slot.
+    const ZERO: Point = Point {
+        ra: Vec2::ZERO,
+        rb: Vec2::ZERO,
+        base: 0.0,
+        normal_mass: 0.0,
+        tangent_mass: 0.0,
+        normal_impulse: 0.0,
+        tangent_impulse: 0.0,
+        max_normal_impulse: 0.0,
+        closing: 0.0,
+        id: 0,
+    };
+}
+
 #[derive(Clone, Copy, Debug)]
 struct Constraint {
     a: usize,
@@ -793,18 +809,7 @@ fn anchored(
             predicted[i].center() - bodies[i].center + turns[i].apply(r) - r
         }
     };
-    let mut points = [Point {
-        ra: Vec2::ZERO,
-        rb: Vec2::ZERO,
-        base: 0.0,
-        normal_mass: 0.0,
-        tangent_mass: 0.0,
-        normal_impulse: 0.0,
-        tangent_impulse: 0.0,
-        max_normal_impulse: 0.0,
-        closing: 0.0,
-        id: 0,
-    }; 3];
+    let mut points = [Point::ZERO; 3];
     let mp = m.points();
     for (q, p) in points.iter_mut().zip(mp) {
         let (ra, rb) = (lever(a, p.point), lever(b, p.point));

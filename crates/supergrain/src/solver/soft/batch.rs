@@ -512,18 +512,7 @@ mod tests {
                 };
                 let angle: f64 = rng.random_range(0.0..std::f64::consts::TAU);
                 let mut f = |lo: f64, hi: f64| rng.random_range(lo..hi);
-                let mut points = [Point {
-                    ra: Vec2::ZERO,
-                    rb: Vec2::ZERO,
-                    base: 0.0,
-                    normal_mass: 0.0,
-                    tangent_mass: 0.0,
-                    normal_impulse: 0.0,
-                    tangent_impulse: 0.0,
-                    max_normal_impulse: 0.0,
-                    closing: 0.0,
-                    id: 0,
-                }; 3];
+                let mut points = [Point::ZERO; 3];
                 let len = 1 + i % 3;
                 for (k, p) in points[..len].iter_mut().enumerate() {
                     p.ra = if a == STATIC {
