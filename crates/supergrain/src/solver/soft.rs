@@ -399,7 +399,7 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
         batches,
         ..
     } = work;
-    batches.build(constraints, bodies.len());
+    batches.build(constraints, active);
     start.clear();
     start.extend(bodies.iter().map(|b| (b.center, b.angle)));
     solids.clear();
