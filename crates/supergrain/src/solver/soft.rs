@@ -399,7 +399,7 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
         batches,
         ..
     } = work;
-    batches.build(constraints, active);
+    batches.build(constraints, bodies.len());
     start.clear();
     start.extend(bodies.iter().map(|b| (b.center, b.angle)));
     solids.clear();

@@ -169,18 +169,12 @@ pub(super) struct Batches {
 
 impl Batches {
     /// Colours `constraints` (greedily, in their order: each takes the first colour neither of
-    /// its grains has) and packs each colour's contacts into batches. Walls are no grain, nor
-    /// is a grain the solver cannot move (`active`, its inverse masses: 0 for a sleeper): its
-    /// velocity is read by every lane and comes back the same (`v + 0`), so lanes may share it,
-    /// and a sleeper under many moving grains takes no colours.
-    pub(super) fn build(&mut self, constraints: &[Constraint], active: &[(f64, f64)]) {
-        let bodies = active.len();
+    /// its grains has; walls are no grain) and packs each colour's contacts into batches.
+    pub(super) fn build(&mut self, constraints: &[Constraint], bodies: usize) {
         self.batches.clear();
         self.overflow.clear();
         self.used.clear();
         self.used.resize(bodies, 0);
-        // Grains that count: not a wall, and movable.
-        let counts = |k: usize| k != STATIC && active[k] != (0.0, 0.0);
         for c in &mut self.colours {
             c.clear();
         }
@@ -188,7 +182,7 @@ impl Batches {
         for (i, c) in constraints.iter().enumerate() {
             // (A lane scatters both its grains: one grain on both sides would lose an update.)
             debug_assert!(c.a != c.b, "a contact of grain {} with itself", c.b);
-            let mask = |k: usize| if counts(k) { self.used[k] } else { 0 };
+            let mask = |k: usize| if k == STATIC { 0 } else { self.used[k] };
             let taken = mask(c.a) | mask(c.b);
             let colour = (!taken).trailing_zeros() as usize;
             if colour >= COLOURS {
@@ -196,7 +190,7 @@ impl Batches {
                 continue;
             }
             for k in [c.a, c.b] {
-                if counts(k) {
+                if k != STATIC {
                     self.used[k] |= 1 << colour;
                 }
             }
@@ -489,15 +483,14 @@ mod tests {
     fn scene(seed: u64, grains: usize, contacts: usize) -> (Vec<Constraint>, Vec<Solid>) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut u = |lo: f64, hi: f64| rng.random_range(lo..hi);
-        // Every seventh grain (not grain 0) cannot move, as a sleeper.
         let mut solids: Vec<Solid> = (0..grains)
-            .map(|k| Solid {
+            .map(|_| Solid {
                 v: Vec2::new(u(-1.0, 1.0), u(-1.0, 1.0)),
                 w: u(-3.0, 3.0),
                 shift: Vec2::new(u(-1e-3, 1e-3), u(-1e-3, 1e-3)),
                 turn: Rotation::new(u(-1e-2, 1e-2)),
-                inv_mass: if k % 7 == 6 { 0.0 } else { u(0.5, 2.0) },
-                inv_inertia: if k % 7 == 6 { 0.0 } else { u(1.0, 20.0) },
+                inv_mass: u(0.5, 2.0),
+                inv_inertia: u(1.0, 20.0),
             })
             .collect();
         solids.push(Solid::WALL);
@@ -566,7 +559,7 @@ mod tests {
             let grains = 40;
             let (mut batched, mut solids) = scene(seed, grains, 300);
             let mut batches = Batches::default();
-            batches.build(&batched, &active(&solids, grains));
+            batches.build(&batched, grains);
             assert!(
                 !batches.overflow.is_empty() && batches.batches.len() > 20,
                 "the scene exercises both paths"
@@ -633,40 +626,22 @@ mod tests {
         }
     }
 
-    /// The solver's inverse masses of the scene's grains.
-    fn active(solids: &[Solid], grains: usize) -> Vec<(f64, f64)> {
-        solids[..grains]
-            .iter()
-            .map(|s| (s.inv_mass, s.inv_inertia))
-            .collect()
-    }
-
-    /// No colour holds two contacts of one grain that can move; one that cannot may be shared
-    /// (and is, in this scene).
+    /// No colour holds two contacts of one grain.
     #[test]
-    fn a_colour_never_holds_a_movable_grain_twice() {
-        let (constraints, solids) = scene(3, 40, 300);
+    fn a_colour_never_holds_a_grain_twice() {
+        let (constraints, _) = scene(3, 40, 300);
         let mut batches = Batches::default();
-        batches.build(&constraints, &active(&solids, 40));
-        let mut shared = 0;
+        batches.build(&constraints, 40);
         for colour in batches.colours.iter() {
             let mut seen = [false; 40];
             for &i in colour {
                 for k in [constraints[i].a, constraints[i].b] {
-                    if k == STATIC {
-                        continue;
+                    if k != STATIC {
+                        assert!(!seen[k], "grain {k} twice in a colour");
+                        seen[k] = true;
                     }
-                    if seen[k] {
-                        assert!(k % 7 == 6, "grain {k}, which can move, twice in a colour");
-                        shared += 1;
-                    }
-                    seen[k] = true;
                 }
             }
         }
-        assert!(
-            shared > 0,
-            "a grain that cannot move shared within a colour"
-        );
     }
 }
