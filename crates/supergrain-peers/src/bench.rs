@@ -221,16 +221,19 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
     for &kind in &options.scenes {
         for &shapes in &options.shapes {
             // A pour per seed (the scene's own when none is asked).
+            let seeds: Vec<Option<u64>> = if options.seeds.is_empty() {
+                vec![None]
+            } else {
+                options.seeds.iter().copied().map(Some).collect()
+            };
             let (heap, pours) = match kind {
                 SceneKind::Heap => (Some(heap_scene(shapes)?), Vec::new()),
-                _ if options.seeds.is_empty() => (None, vec![pour(kind, shapes, None)?]),
                 _ => (
                     None,
-                    options
-                        .seeds
+                    seeds
                         .iter()
-                        .map(|&s| pour(kind, shapes, Some(s)))
-                        .collect::<Result<_, _>>()?,
+                        .map(|&s| pour(kind, shapes, s))
+                        .collect::<Result<Vec<_>, _>>()?,
                 ),
             };
             for &threads in &options.threads {

@@ -168,69 +168,53 @@ impl BroadPhase for Grid {
     }
 
     fn candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>) {
-        self.gather(i, boxes, out, |j| j != i);
+        self.gather(i, boxes, out, false);
     }
 
     /// Half the boxes tested and sorted, where the soft step asked for all and kept the later
-    /// ones (the pairs' search was 5% of a settled heap's step); each cell's bodies after `i`
-    /// only, skipped to by bisection where the cells are sorted:
-    /// the scan of the bodies before `i` and its unpredictable branch were most of the soft
-    /// step's search for pairs.
+    /// ones (the pairs' search was 5% of a settled heap's step).
     fn later_candidates(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>) {
-        if !self.sorted {
-            return self.gather(i, boxes, out, |j| j > i);
-        }
+        self.gather(i, boxes, out, true);
+    }
+}
+
+impl Grid {
+    /// The bodies `j != i` (`j > i` if `later`) whose box overlaps body `i`'s, appended in
+    /// increasing order, each once. Where the cells are sorted, the later ones are looked for
+    /// from `i` on, found by bisection: the scan of the bodies before `i` and its unpredictable
+    /// branch were most of the soft step's search for pairs.
+    fn gather(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>, later: bool) {
         let q = boxes[i];
         let start = out.len();
         let (x0, y0, x1, y1) = self.range(&q);
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let cell = &self.cells[y * self.nx + x];
-                let after = cell.partition_point(|&j| j as usize <= i);
-                for &j in &cell[after..] {
+                let from = if later && self.sorted {
+                    cell.partition_point(|&j| j as usize <= i)
+                } else {
+                    0
+                };
+                for &j in &cell[from..] {
                     let j = j as usize;
-                    if q.intersects(&boxes[j]) {
+                    let wanted = if later { j > i } else { j != i };
+                    if wanted && q.intersects(&boxes[j]) {
                         out.push(j);
                     }
                 }
             }
         }
-        dedup_sorted(out, start);
-    }
-}
-
-impl Grid {
-    /// The bodies `j` that `keep` lets through and whose box overlaps body `i`'s, appended in
-    /// increasing order, each once.
-    fn gather(&self, i: usize, boxes: &[Aabb], out: &mut Vec<usize>, keep: impl Fn(usize) -> bool) {
-        let q = boxes[i];
-        let start = out.len();
-        let (x0, y0, x1, y1) = self.range(&q);
-        for y in y0..=y1 {
-            for x in x0..=x1 {
-                for &j in &self.cells[y * self.nx + x] {
-                    let j = j as usize;
-                    if keep(j) && q.intersects(&boxes[j]) {
-                        out.push(j);
-                    }
-                }
+        // A body filed in several cells is met in each.
+        out[start..].sort_unstable();
+        let mut kept = start;
+        for k in start..out.len() {
+            if k == start || out[k] != out[kept - 1] {
+                out[kept] = out[k];
+                kept += 1;
             }
         }
-        dedup_sorted(out, start);
+        out.truncate(kept);
     }
-}
-
-/// `out[start..]` sorted, each index once (a body filed in several cells is met in each).
-fn dedup_sorted(out: &mut Vec<usize>, start: usize) {
-    out[start..].sort_unstable();
-    let mut kept = start;
-    for k in start..out.len() {
-        if k == start || out[k] != out[kept - 1] {
-            out[kept] = out[k];
-            kept += 1;
-        }
-    }
-    out.truncate(kept);
 }
 
 #[cfg(test)]
