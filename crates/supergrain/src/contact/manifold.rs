@@ -16,9 +16,10 @@
 //! deeper than both sides by more than the margin (a round grain pressed into a face), it stays as a
 //! third point.
 //!
-//! The patch is searched only when a shape is blocky (an exponent above 2) and neither is a
-//! disk: between round shapes the overlap is a lens a few slops wide, and its middle is the
-//! contact; a disk touches a convex grain at one point, however deep it is pressed. Pairs whose
+//! The patch is searched only when a shape is blocky (an exponent above 2) and neither is an
+//! ellipse: between round shapes the overlap is a lens a few slops wide, and its middle is the
+//! contact; an ellipse (a disk too) touches a convex grain at one point, which moves smoothly as
+//! it turns. Pairs whose
 //! overlap has several regions (stars) get the region of the deepest points here; issue 19
 //! reports every region.
 
@@ -340,6 +341,11 @@ fn regions(
     found
 }
 
+/// Whether a shape is an ellipse (a disk included): strictly convex, its curvature bounded.
+fn ellipse(s: &Superellipse) -> bool {
+    s.exponents() == [2.0, 2.0]
+}
+
 /// Whether a shape has flat-ish faces, whose contacts need the region's ends.
 fn blocky(s: &Superellipse) -> bool {
     s.exponents().iter().any(|&e| e > 2.0)
@@ -394,10 +400,11 @@ pub fn grain_manifold(
         m.regions(found, min_gap(a, b));
         return m;
     }
-    // A disk touches any convex grain at one point, as Box2D's circle manifolds have one: the
-    // patch is not walked. (Its walk was half of a disk-block contact's cost in the settled
-    // mixed heap, and its sides only appeared for a disk pressed deep into a face.)
-    if (blocky(a) || blocky(b)) && !a.is_circle() && !b.is_circle() {
+    // An ellipse (a disk too) touches a convex grain at one point, which moves smoothly as it
+    // turns (its curvature is bounded): the patch is not walked. Box2D's circles have one point
+    // too. (The walks were half of a round grain's contact with a block in the settled mixed
+    // heap; their sides held a grain of rice lying on a face as if it were flat.)
+    if (blocky(a) || blocky(b)) && !ellipse(a) && !ellipse(b) {
         let gap = |q: Vec2| separation32(b, pose_b, q);
         m.sides(
             patch(a, pose_a, p.a_deepest, normal, gap, margin, min_gap(a, b)),
@@ -710,40 +717,43 @@ mod tests {
         }
     }
 
-    /// A disk pressed into a block's face, in either order and at any angle of the block: one
-    /// point, halfway into the overlap on the line through the disk's centre along the face's
-    /// normal (closed form: the face is flat there), at the overlap's depth. Walked as a
-    /// blocky patch, the disk's lens (0.45 wide at this depth, more than `min_gap`) made two
-    /// side points as well.
+    /// A disk, and an ellipse lying flat, pressed into a block's face, in either order and at
+    /// any angle of the block: one point, halfway into the overlap on the line through the
+    /// round grain's centre along the face's normal (closed form: the face is flat there), at
+    /// the overlap's depth. Walked as a blocky patch, their lenses (0.45 and 0.3 wide at
+    /// these depths, more than `min_gap`) made two side points as well.
     #[test]
-    fn a_disk_on_a_block_is_one_point() {
+    fn a_disk_or_an_ellipse_on_a_block_is_one_point() {
         use crate::contact::contact;
         use crate::geometry::Rotation;
         use crate::subdivision::Precision;
         let block = Superellipse::new([1.0, 0.5], [8.0, 8.0]).unwrap();
-        let (r, depth) = (0.3, 0.1);
-        let disk = Superellipse::circle(r).unwrap();
-        for angle in [0.0, 0.4, 2.0] {
-            let turn = Rotation::new(angle);
-            let pose_b = Pose::new(Vec2::ZERO, angle).unwrap();
-            // Above the top face's middle, `depth` into it.
-            let centre = turn.apply(Vec2::new(0.05, 0.5 + r - depth));
-            let pose_d = Pose::new(centre, 0.3).unwrap();
-            let up = turn.apply(Vec2::new(0.0, 1.0));
-            let middle = centre - up * (r - 0.5 * depth);
-            for (a, pa, b, pb, normal) in [
-                (&disk, &pose_d, &block, &pose_b, -up),
-                (&block, &pose_b, &disk, &pose_d, up),
-            ] {
-                let p = contact(a, pa, b, pb, &Precision::default())
-                    .penetration
-                    .expect("the disk is in the block");
-                let m = grain_manifold(a, pa, b, pb, &p, 0.02);
-                assert_eq!(m.points().len(), 1, "{angle}: {:?}", m.points());
-                let q = m.points()[0];
-                assert!((q.point - middle).norm() < 1e-3, "{angle}: {q:?}");
-                assert!((q.separation + depth).abs() < 1e-3, "{angle}: {q:?}");
-                assert!((m.normal - normal).norm() < 1e-3, "{angle}: {:?}", m.normal);
+        let disk = Superellipse::circle(0.3).unwrap();
+        let rice = Superellipse::new([0.4, 0.14], [2.0, 2.0]).unwrap();
+        // The round grain, its half-height over the face, its depth in it, its own angle.
+        for (round, half, depth, own) in [(disk, 0.3, 0.1, 0.3), (rice, 0.14, 0.01, 0.0)] {
+            for angle in [0.0, 0.4, 2.0] {
+                let turn = Rotation::new(angle);
+                let pose_b = Pose::new(Vec2::ZERO, angle).unwrap();
+                // Above the top face's middle, `depth` into it.
+                let centre = turn.apply(Vec2::new(0.05, 0.5 + half - depth));
+                let pose_r = Pose::new(centre, angle + own).unwrap();
+                let up = turn.apply(Vec2::new(0.0, 1.0));
+                let middle = centre - up * (half - 0.5 * depth);
+                for (a, pa, b, pb, normal) in [
+                    (&round, &pose_r, &block, &pose_b, -up),
+                    (&block, &pose_b, &round, &pose_r, up),
+                ] {
+                    let p = contact(a, pa, b, pb, &Precision::default())
+                        .penetration
+                        .expect("the grain is in the block");
+                    let m = grain_manifold(a, pa, b, pb, &p, 0.02);
+                    assert_eq!(m.points().len(), 1, "{angle}: {:?}", m.points());
+                    let q = m.points()[0];
+                    assert!((q.point - middle).norm() < 1e-3, "{angle}: {q:?}");
+                    assert!((q.separation + depth).abs() < 1e-3, "{angle}: {q:?}");
+                    assert!((m.normal - normal).norm() < 1e-3, "{angle}: {:?}", m.normal);
+                }
             }
         }
     }

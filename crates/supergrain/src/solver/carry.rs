@@ -380,8 +380,10 @@ mod tests {
     fn a_carried_manifold_survives_its_numbers_bit_for_bit() {
         let block = Superellipse::new([0.3, 0.2], [6.0, 6.0]).unwrap();
         let ellipse = Superellipse::new([0.35, 0.12], [2.0, 2.0]).unwrap();
-        let (pa, pb) = (pose(0.3, -0.2, 0.7), pose(0.45, 0.1, 2.1));
-        let c = carried(&block, &pa, &ellipse, &pb);
+        let slab = Superellipse::new([0.35, 0.12], [2.0, 6.0]).unwrap();
+        let (pa, pb) = (pose(0.3, -0.2, 0.7), pose(0.55, 0.1, 2.1));
+        let c = carried(&block, &pa, &slab, &pb);
+        assert_eq!(c.len, 3, "the premise: a manifold of three points");
         assert_eq!(Carried::from_parts(&c.to_parts()), Ok(c));
         let bad = |edit: fn(&mut CarriedParts)| {
             let mut p = c.to_parts();
@@ -400,7 +402,7 @@ mod tests {
         assert_eq!(round.len, 1);
         assert_eq!(Carried::from_parts(&round.to_parts()), Ok(round));
         // What a dump's grains make implausible: a separation of -1e300 (it launched grains).
-        let (ra, rb) = (block.bounding_radius(), ellipse.bounding_radius());
+        let (ra, rb) = (block.bounding_radius(), slab.bounding_radius());
         assert_eq!(c.fits(ra, rb), Ok(()));
         let mut far = c.to_parts();
         far.points[0][2] = -1e300;
