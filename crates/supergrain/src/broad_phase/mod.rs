@@ -2,11 +2,14 @@
 //!
 //! The paper tests every pair whose bounding boxes overlap and leaves a real broad phase for
 //! later; [`AllPairs`] is that, kept as the reference, and [`Grid`] finds the same pairs in time
-//! linear in the number of grains.
+//! linear in the number of grains. [`Near`] keeps the pairs of fat boxes from step to step
+//! for the soft step, looking up again only the bodies that left them.
 
 mod grid;
+mod near;
 
 pub use grid::Grid;
+pub use near::Near;
 
 use crate::geometry::Aabb;
 

@@ -38,7 +38,7 @@ use rayon::prelude::*;
 
 use super::carry::Carried;
 use super::{Body, NarrowPhase, Settings, StepStats, Stopped, Walls, pair_precision};
-use crate::broad_phase::BroadPhase;
+use crate::broad_phase::Near;
 use crate::contact::manifold::{Manifold, grain_manifold, wall_manifold};
 use crate::contact::{
     Contact, Penetration, WarmStart, contact_quadtree, contact_wall, contact_wall_quadtree,
@@ -316,6 +316,8 @@ pub struct SoftWorkspace {
     /// Each grain's rotation from its pose to its predicted one.
     turns: Vec<Rotation>,
     boxes: Vec<Aabb>,
+    /// The pairs of fat boxes, kept from step to step.
+    near: Near,
     pairs: Vec<PairEntry>,
     constraints: Vec<Constraint>,
     start: Vec<(Vec2, f64)>,
@@ -347,14 +349,13 @@ impl SoftWorkspace {
 /// One soft step of `bodies` (see the module docs). `materials[g]` is the material of group
 /// `g` (grains of a group past its end take the last one, or the default), `wall` the walls'.
 #[allow(clippy::too_many_arguments)]
-pub fn step_or_stop<B: BroadPhase + Sync>(
+pub fn step_or_stop(
     bodies: &mut [Body],
     walls: &Walls,
     planes: &[HalfPlane],
     materials: &[Material],
     wall: &Material,
     settings: &Settings,
-    broad: &mut B,
     work: &mut SoftWorkspace,
     stop: &AtomicBool,
 ) -> Result<StepStats, Stopped> {
@@ -383,7 +384,7 @@ pub fn step_or_stop<B: BroadPhase + Sync>(
     all.clear();
     all.extend(walls.half_planes());
     all.extend_from_slice(planes);
-    let found = find_contacts(bodies, &all, settings, broad, work, stop);
+    let found = find_contacts(bodies, &all, settings, work, stop);
     work.planes = all;
     let mut stats = found?;
     prepare(bodies, &material, wall, settings, hs, work);
@@ -606,11 +607,10 @@ const PAIR_CHUNK: usize = 1024;
 /// Stage 1: the contacts of the step, tested at the poses of free flight, as manifolds with
 /// their points anchored (module docs). Grain pairs are tested on all cores, in a fixed order
 /// of pairs, so the result does not depend on the number of threads.
-fn find_contacts<B: BroadPhase + Sync>(
+fn find_contacts(
     bodies: &[Body],
     walls: &[HalfPlane],
     settings: &Settings,
-    broad: &mut B,
     work: &mut SoftWorkspace,
     stop: &AtomicBool,
 ) -> Result<StepStats, Stopped> {
@@ -633,19 +633,20 @@ fn find_contacts<B: BroadPhase + Sync>(
             .zip(&work.predicted)
             .map(|(b, p)| b.shape.bounding_box(p)),
     );
-    broad.rebuild(&work.boxes);
-    let (boxes, awake, warm, broad) = (&work.boxes, &work.awake, &work.warm, &*broad);
+    // The pairs of fat boxes kept from the last step, looked up again only for the grains whose
+    // boxes left theirs ([`Near`]): the same pairs as the broad phase's, in the same order.
+    work.near.refresh(&work.boxes, settings.broad_phase);
+    let (boxes, awake, warm, near) = (&work.boxes, &work.awake, &work.warm, &work.near);
     work.pairs.clear();
     work.pairs.par_extend(
         (0..bodies.len().div_ceil(PAIR_CHUNK))
             .into_par_iter()
             .flat_map_iter(|c| {
-                let (mut out, mut candidates) = (Vec::new(), Vec::new());
+                let mut out = Vec::new();
                 for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(bodies.len()) {
-                    candidates.clear();
-                    broad.later_candidates(i, boxes, &mut candidates);
-                    for &j in &candidates {
-                        if awake[i] || awake[j] {
+                    for &j in near.later(i) {
+                        let j = j as usize;
+                        if (awake[i] || awake[j]) && boxes[i].intersects(&boxes[j]) {
                             out.push((i, j, warm.get(&(i, j)).copied()));
                         }
                     }

@@ -160,7 +160,6 @@ impl World {
                 &self.materials,
                 &self.wall_material,
                 &self.settings,
-                &mut self.broad,
                 &mut self.soft,
                 stop,
             )?,
