@@ -794,6 +794,15 @@ impl Dump {
         }
         // The velocities the dump reports stay the world's until its next step.
         world.set_velocities(&velocities);
+        // Grains deep in each other: put there by hand under the paper's model, whose
+        // projection would fling them out. Not under the soft model: its push-out is bounded
+        // (`push_out`, 3 units/s) whatever the depth, and a fast grain's impact leaves deeper
+        // overlaps for a step or two (measured: `pour-100k.toml` at step 250, a disk 0.08 deep in
+        // a grain of rice whose smaller semi-axis is 0.115), so the check refused dumps the run
+        // had written itself, its checkpoints among them.
+        if world.settings.model == Model::Soft {
+            return Ok(world);
+        }
         let mut deep = None;
         world.contacts(|t| {
             if let Touch::Grains(i, j, p) = t {
