@@ -528,7 +528,8 @@ fn a_dump_whose_grain_would_cross_the_box_in_one_step_is_refused() {
 /// Under the soft model a dump may hold grains deep in each other: a fast grain's impact
 /// leaves such overlaps for a step or two, and the soft step pushes them apart at its bounded
 /// speed. Two disks of a soft heap put 0.6 of their radius into each other resume, and part
-/// without either leaving at more than the push-out's 3 units/s (plus what gravity adds).
+/// without either leaving at more than the push-out's 3 units/s (plus what gravity adds); and
+/// the same for a grain pushed into the floor.
 #[test]
 fn a_soft_dump_with_grains_deep_in_each_other_resumes_and_they_part() {
     let scene = Scene::from_toml(
@@ -553,4 +554,20 @@ fn a_soft_dump_with_grains_deep_in_each_other_resumes_and_they_part() {
     }
     let gap = (w.bodies[5].center - w.bodies[0].center).norm();
     assert!(gap > 0.58, "still {} deep", 0.6 - gap);
+    // A grain pushed into the floor by its own radius (its centre on the floor, as a struck
+    // grain can be for a step) resumes too, and comes out; one wholly beyond a wall by more than
+    // its diameter is refused, naming it.
+    let mut d = serde_json::to_value(Dump::of(&w)).unwrap();
+    d["particles"][2]["center"] = serde_json::json!([-1.5, 0.0]);
+    let mut w = to_world(&d).expect("a soft grain on the floor's line");
+    for _ in 0..60 {
+        w.step();
+    }
+    assert!(w.bodies[2].center.y > 0.29, "{:?}", w.bodies[2].center);
+    d["particles"][2]["center"] = serde_json::json!([-1.5, -0.7]);
+    let e = refused_dump(&d);
+    assert!(
+        e.contains("particle 2") && e.contains("beyond the walls"),
+        "{e}"
+    );
 }

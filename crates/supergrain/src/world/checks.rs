@@ -26,6 +26,11 @@ pub const PACKING: f64 = 0.9;
 /// projection would fling it out.
 pub const DEPTH_FRACTION: f64 = 0.5;
 
+/// How far a grain of a soft-model dump may reach beyond a wall, as a fraction of its bounding
+/// radius: beyond that, its whole diameter, it was put there by hand (a struck grain's
+/// transient overlaps with the floor stay within its thickness; see `io::dump`).
+pub const SOFT_OUTSIDE_FRACTION: f64 = 2.0;
+
 /// The largest `step` count a dump may hold: past 2^53 steps are no longer exact as `f64` times
 /// (and `u64::MAX` wraps at the next step).
 pub const MAX_STEP: u64 = 1 << 53;
