@@ -231,11 +231,20 @@ impl World {
             .find(|&i| !self.bodies[i].is_finite() || !self.velocity(i).is_finite())
     }
 
-    /// The first grain whose centre has left the box: left of the left wall, right of the right
-    /// one or below the floor (a run gone wrong: the walls no longer hold it).
+    /// The first grain that has left the box (a run gone wrong: the walls no longer hold it).
+    /// Under the paper's model, a grain whose centre is left of the left wall, right of the
+    /// right one or below the floor. Under the soft model, one beyond a wall by more than its
+    /// diameter: a grain struck while lying on the floor can have its centre below it for a
+    /// step or two, and the floor pushes it out (docs/physics.md, "The soft step"); the same
+    /// limit as a dump's (`checks::SOFT_OUTSIDE_FRACTION`).
     pub fn first_outside(&self) -> Option<usize> {
         let w = self.walls;
+        let soft = self.settings.model == Model::Soft;
         self.bodies.iter().position(|b| {
+            if soft {
+                let limit = checks::SOFT_OUTSIDE_FRACTION * b.shape.bounding_radius();
+                return !(checks::depth_outside(&w, &b.bounding_box()) <= limit);
+            }
             let c = b.center;
             !(c.x >= w.left && c.x <= w.right && c.y >= w.floor)
         })
