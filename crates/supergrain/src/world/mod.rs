@@ -243,7 +243,7 @@ impl World {
         self.bodies.iter().position(|b| {
             if soft {
                 let limit = checks::SOFT_OUTSIDE_FRACTION * b.shape.bounding_radius();
-                return !(checks::depth_outside(&w, &b.bounding_box()) <= limit);
+                return checks::depth_outside(&w, &b.bounding_box()) > limit;
             }
             let c = b.center;
             !(c.x >= w.left && c.x <= w.right && c.y >= w.floor)
