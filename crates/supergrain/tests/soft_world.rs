@@ -250,3 +250,48 @@ fn a_soft_grain_pushed_into_the_floor_has_not_left_the_box() {
     w.bodies[1].center.x = 4.0 + 3.1 * r;
     assert_eq!(w.first_outside(), Some(1));
 }
+
+/// A dump tells a contact of the last step (kept impulses, zeros included: a sleeping island's
+/// link) from a pair with only a warm start (tested and found apart). Read back, a warm-only
+/// pair is no contact, and a contact with zero impulses still is one; written again, each is
+/// as it was. (A warm-only pair read as a contact linked two sleepers that had not touched, and
+/// a resumed run's next dump listed it where the straight run's did not.)
+#[test]
+fn a_dump_keeps_contacts_and_warm_starts_apart() {
+    let scene = Scene::from_toml(SCENE).unwrap();
+    let mut w = World::new(&scene);
+    run(&mut w, 200);
+    let mut d: serde_json::Value = serde_json::from_str(&text(&w)).unwrap();
+    let contacts = d["contacts"].as_array_mut().unwrap();
+    contacts.retain(|c| !(c["a"] == 0 && (c["b"] == 1 || c["b"] == 2)));
+    contacts.push(serde_json::json!({"a": 0, "b": 1, "warm": [[0.1, 0.2]]}));
+    contacts.push(serde_json::json!({"a": 0, "b": 2, "normal_impulse": [0.0, 0.0, 0.0]}));
+    let back = Dump::from_json(&d.to_string()).unwrap().to_world().unwrap();
+    assert!(
+        !back.soft.kept.contains_key(&(0, 1)),
+        "a warm start read as a contact"
+    );
+    assert!(back.soft.warm.contains_key(&(0, 1)));
+    assert!(
+        back.soft.kept.contains_key(&(0, 2)),
+        "a contact of zero impulses lost"
+    );
+    let again: serde_json::Value = serde_json::from_str(&text(&back)).unwrap();
+    let entry = |b: u64| {
+        again["contacts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["a"] == 0 && c["b"] == b)
+            .cloned()
+            .unwrap()
+    };
+    assert_eq!(
+        entry(1),
+        serde_json::json!({"a": 0, "b": 1, "warm": [[0.1, 0.2]]})
+    );
+    assert_eq!(
+        entry(2),
+        serde_json::json!({"a": 0, "b": 2, "normal_impulse": [0.0, 0.0, 0.0]})
+    );
+}

@@ -757,14 +757,25 @@ impl Dump {
             {
                 return Err(bad("impulses must be finite, normal ones >= 0"));
             }
-            world.soft.kept.insert(
-                key,
-                Kept {
-                    normal,
-                    tangent,
-                    rolling: c.rolling_impulse,
-                },
-            );
+            // A contact of the last step has its impulses written (`kept_contacts`); an entry
+            // with nothing at all is one too (dumps before 2026-12-05 left zero impulses out).
+            // An entry with only a warm start or a carried manifold is none: made one on
+            // reading, it linked two sleepers that had not touched.
+            let empty = c.warm.is_empty() && c.carried.is_none();
+            if c.normal_impulse.is_some()
+                || c.tangent_impulse.is_some()
+                || c.rolling_impulse != 0.0
+                || empty
+            {
+                world.soft.kept.insert(
+                    key,
+                    Kept {
+                        normal,
+                        tangent,
+                        rolling: c.rolling_impulse,
+                    },
+                );
+            }
             let point = |p: &[f64; 2]| {
                 let v = Vec2::from(*p);
                 if v.is_finite() {
@@ -859,7 +870,9 @@ fn kept_contacts(world: &World) -> Vec<ContactJson> {
                 a,
                 b,
                 wall,
-                normal_impulse: kept.and_then(|k| nonzero(k.normal)),
+                // Whenever the pair is kept, zeros too: a kept pair is a contact of the last
+                // step (a sleeping island's link), which a pair with only a warm start is not.
+                normal_impulse: kept.map(|k| k.normal),
                 tangent_impulse: kept.and_then(|k| nonzero(k.tangent)),
                 rolling_impulse: kept.map_or(0.0, |k| k.rolling),
                 warm: soft.warm.get(&key).map_or(Vec::new(), |w| {
