@@ -346,6 +346,13 @@ fn ellipse(s: &Superellipse) -> bool {
     s.exponents() == [2.0, 2.0]
 }
 
+/// Whether the manifold of two grains is always their overlap's middle alone: no star (whose
+/// regions make points of their own), and no patch walked (neither blocky, or an ellipse among
+/// them).
+pub fn one_point(a: &Superellipse, b: &Superellipse) -> bool {
+    !star(a) && !star(b) && (!(blocky(a) || blocky(b)) || ellipse(a) || ellipse(b))
+}
+
 /// Whether a shape has flat-ish faces, whose contacts need the region's ends.
 fn blocky(s: &Superellipse) -> bool {
     s.exponents().iter().any(|&e| e > 2.0)
@@ -404,7 +411,7 @@ pub fn grain_manifold(
     // turns (its curvature is bounded): the patch is not walked. Box2D's circles have one point
     // too. (The walks were half of a round grain's contact with a block in the settled mixed
     // heap; their sides held a grain of rice lying on a face as if it were flat.)
-    if (blocky(a) || blocky(b)) && !ellipse(a) && !ellipse(b) {
+    if !one_point(a, b) {
         let gap = |q: Vec2| separation32(b, pose_b, q);
         m.sides(
             patch(a, pose_a, p.a_deepest, normal, gap, margin, min_gap(a, b)),
