@@ -571,3 +571,50 @@ fn a_soft_dump_with_grains_deep_in_each_other_resumes_and_they_part() {
         "{e}"
     );
 }
+
+/// Sleepers are held to the paper's limits even under the soft model: its step does not move
+/// them, so two sleepers deep in each other, or one deep in the floor, would stay so for ever
+/// (found by a review). The same grains awake are accepted.
+#[test]
+fn a_soft_dump_with_sleepers_deep_in_each_other_or_the_floor_is_refused() {
+    let scene = Scene::from_toml(
+        "seed = 3\nsteps = 300\n[box]\nleft = -2.0\nright = 2.0\nfloor = 0.0\ntop = 4.0\n\
+         [spawn]\ninterval = 5\n[solver]\nmodel = \"soft\"\n[[group]]\ncount = 8\nradius = 0.3\n",
+    )
+    .unwrap();
+    let mut w = World::new(&scene);
+    for _ in 0..100 {
+        w.step();
+    }
+    let base = serde_json::to_value(Dump::of(&w)).unwrap();
+    let sleep_steps = w.settings.sleep_steps;
+    let with = |edit: &dyn Fn(&mut serde_json::Value), calm: u32| {
+        let mut d = base.clone();
+        for g in d["particles"].as_array_mut().unwrap() {
+            g["calm"] = serde_json::json!(calm);
+            g["velocity"] = serde_json::json!([0.0, 0.0]);
+        }
+        edit(&mut d);
+        d
+    };
+    let deep = |d: &mut serde_json::Value| {
+        let c = d["particles"][0]["center"].clone();
+        let (x, y) = (c[0].as_f64().unwrap(), c[1].as_f64().unwrap());
+        d["particles"][5]["center"] = serde_json::json!([x + 0.3, y]);
+    };
+    let sunk = |d: &mut serde_json::Value| {
+        d["particles"][2]["center"] = serde_json::json!([-1.5, -0.1]);
+    };
+    let e = refused_dump(&with(&deep, sleep_steps));
+    assert!(
+        e.contains("particles 0 and 5") && e.contains("overlap"),
+        "{e}"
+    );
+    let e = refused_dump(&with(&sunk, sleep_steps));
+    assert!(
+        e.contains("particle 2") && e.contains("beyond the walls"),
+        "{e}"
+    );
+    assert!(to_world(&with(&deep, 0)).is_ok());
+    assert!(to_world(&with(&sunk, 0)).is_ok());
+}

@@ -240,7 +240,9 @@ impl Carried {
         let turn = rel.angle() - self.rel.angle();
         let motion = (rel.center() - self.rel.center()).norm() + turn.abs() * b.bounding_radius();
         let size = SIZE_REACH * a.bounding_radius().min(b.bounding_radius());
-        let reach = if one_point(a, b) {
+        // (One point carried too: a dump from before ellipses touched at one point may carry
+        // three for such a pair.)
+        let reach = if self.len == 1 && one_point(a, b) {
             ROUND_REACH * reach.min(size)
         } else {
             reach.min(size)
