@@ -78,9 +78,8 @@ pub struct Args {
     sleep_radius: Option<f64>,
     /// Soft model: override the scene's (or the dump's) `carry_reach`, how far a pair of
     /// grains may move against each other before its contact, carried from step to step, is
-    /// searched afresh (default 0.0005; four times that for a pair whose contact is one point,
-    /// as round grains'); 0 searches every pair every step, as before contacts were carried
-    /// (docs/physics.md).
+    /// searched afresh (default 0.0005); 0 searches every pair every step, as before contacts
+    /// were carried (docs/physics.md).
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
     carry_reach: Option<f64>,
     /// Write the final state as JSON (restartable with --resume).

@@ -349,7 +349,7 @@ fn ellipse(s: &Superellipse) -> bool {
 /// Whether the manifold of two grains is always their overlap's middle alone: no star (whose
 /// regions make points of their own), and no patch walked (neither blocky, or an ellipse among
 /// them).
-pub fn one_point(a: &Superellipse, b: &Superellipse) -> bool {
+fn one_point(a: &Superellipse, b: &Superellipse) -> bool {
     !star(a) && !star(b) && (!(blocky(a) || blocky(b)) || ellipse(a) || ellipse(b))
 }
 

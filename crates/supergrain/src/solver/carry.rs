@@ -33,7 +33,7 @@
 //! and pairs that were apart (a new contact is always found by the narrow phase).
 
 use crate::contact::Penetration;
-use crate::contact::manifold::{MAX_POINTS, Manifold, ManifoldPoint, one_point};
+use crate::contact::manifold::{MAX_POINTS, Manifold, ManifoldPoint};
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{Pose, Superellipse};
@@ -45,12 +45,6 @@ use crate::shape::{Pose, Superellipse};
 /// reach of 1e6 let a mixed heap sink 0.33 deep.) It binds for grains under 0.2 across at
 /// the default reach; every built-in scene's grains are larger.
 pub const SIZE_REACH: f64 = 2.5e-3;
-
-/// How much farther than `carry_reach` (and [`SIZE_REACH`]) a pair whose manifold is one point
-/// ([`one_point`]: round grains, or a round grain and a block) may move before it is searched
-/// afresh. The reach was set by blocky pairs, whose carried side points jump when refreshed;
-/// a single point's separation is off by the square of the motion times the curvature.
-pub const ROUND_REACH: f64 = 4.0;
 
 /// A pair's manifold as found at some step, in A's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -239,14 +233,7 @@ impl Carried {
         let rel = pose_a.relative(pose_b);
         let turn = rel.angle() - self.rel.angle();
         let motion = (rel.center() - self.rel.center()).norm() + turn.abs() * b.bounding_radius();
-        let size = SIZE_REACH * a.bounding_radius().min(b.bounding_radius());
-        // (One point carried too: a dump from before ellipses touched at one point may carry
-        // three for such a pair.)
-        let reach = if self.len == 1 && one_point(a, b) {
-            ROUND_REACH * reach.min(size)
-        } else {
-            reach.min(size)
-        };
+        let reach = reach.min(SIZE_REACH * a.bounding_radius().min(b.bounding_radius()));
         // (A motion that is not a number is no motion within reach.)
         if motion.is_nan() || motion > reach {
             return None;
@@ -371,42 +358,6 @@ mod tests {
                 .len(),
             3
         );
-    }
-
-    /// A pair whose manifold is one point (a grain of rice on a block) is carried
-    /// [`ROUND_REACH`] times as far as a blocky pair before it is searched afresh, and its
-    /// carried separation is then still the fresh search's to the second order of the slide
-    /// (the rice's tip is not in contact; its flat side's curvature is `b / a^2`).
-    #[test]
-    fn a_round_pair_is_carried_farther_and_stays_second_order() {
-        let block = Superellipse::new([0.3, 0.2], [6.0, 6.0]).unwrap();
-        let rice = Superellipse::new([0.35, 0.12], [2.0, 2.0]).unwrap();
-        let (pa, pb) = (pose(0.0, 0.0, 0.0), pose(0.05, 0.315, 0.0));
-        let c = carried(&block, &pa, &rice, &pb);
-        assert_eq!(c.len, 1);
-        let reach = 5e-4;
-        let limit = ROUND_REACH * reach;
-        let slide = |dx: f64| pose(0.05 + dx, 0.315 - 0.3 * dx, 0.0);
-        let moved = |dx: f64| (dx * dx + 0.09 * dx * dx).sqrt();
-        let dx = 0.95 * limit / 1.044;
-        assert!(moved(dx) < limit && moved(dx) > 3.0 * reach);
-        let m = c
-            .manifold(&block, &pa, &rice, &slide(dx), reach)
-            .expect("carried");
-        let fresh = contact(&block, &pa, &rice, &slide(dx), &Precision::default())
-            .penetration
-            .unwrap();
-        let f = grain_manifold(&block, &pa, &rice, &slide(dx), &fresh, MARGIN);
-        let (got, want) = (m.points()[0].separation, f.points()[0].separation);
-        assert!((got - want).abs() < 1e-5, "{got} against {want}");
-        assert!(
-            c.manifold(&block, &pa, &rice, &slide(1.1 * limit), reach)
-                .is_none()
-        );
-        // A blocky pair at the same slide is searched afresh.
-        let b = carried(&block, &pa, &block, &pose(0.1, 0.395, 0.0));
-        let far = pose(0.1 + dx, 0.395, 0.0);
-        assert!(b.manifold(&block, &pa, &block, &far, reach).is_none());
     }
 
     /// The overlap is proven again at every step it is carried: a pair pulled apart (0.01
