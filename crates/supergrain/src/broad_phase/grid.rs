@@ -87,7 +87,8 @@ impl Grid {
     }
 }
 
-fn inside(inner: &Aabb, outer: &Aabb) -> bool {
+/// Whether `inner` lies in `outer` (false for a NaN box).
+pub(super) fn inside(inner: &Aabb, outer: &Aabb) -> bool {
     inner.min.x >= outer.min.x
         && inner.min.y >= outer.min.y
         && inner.max.x <= outer.max.x

@@ -9,6 +9,7 @@
 //! in the same order: a box lies in its fat box, so boxes that meet have fat boxes that meet,
 //! and the neighbours are kept in increasing order.
 
+use super::grid::inside;
 use super::{Any, BroadPhase, Kind};
 use crate::geometry::Aabb;
 use rayon::prelude::*;
@@ -36,13 +37,6 @@ pub struct Near {
 fn fatten(b: &Aabb) -> Aabb {
     let fat = b.grown(MARGIN * b.width().max(b.height()));
     if inside(b, &fat) { fat } else { *b }
-}
-
-fn inside(inner: &Aabb, outer: &Aabb) -> bool {
-    inner.min.x >= outer.min.x
-        && inner.min.y >= outer.min.y
-        && inner.max.x <= outer.max.x
-        && inner.max.y <= outer.max.y
 }
 
 impl Near {
