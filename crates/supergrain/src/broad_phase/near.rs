@@ -89,7 +89,6 @@ impl Near {
             })
             .collect();
         self.lists.resize_with(boxes.len(), Vec::new);
-        self.lists.truncate(boxes.len());
         for list in &mut self.lists {
             list.clear();
         }

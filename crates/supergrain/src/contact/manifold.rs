@@ -19,9 +19,8 @@
 //! The patch is searched only when a shape is blocky (an exponent above 2) and neither is an
 //! ellipse: between round shapes the overlap is a lens a few slops wide, and its middle is the
 //! contact; an ellipse (a disk too) touches a convex grain at one point, which moves smoothly as
-//! it turns. Pairs whose
-//! overlap has several regions (stars) get the region of the deepest points here; issue 19
-//! reports every region.
+//! it turns. Pairs whose overlap has several regions (stars) get the region of the deepest
+//! points here; issue 19 reports every region.
 
 use super::certified::radial_to_boundary;
 use super::{Penetration, WallPenetration};

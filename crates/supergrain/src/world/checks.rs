@@ -6,7 +6,7 @@
 
 use super::Range;
 use crate::geometry::Aabb;
-use crate::shape::ShapeError;
+use crate::shape::{ShapeError, Superellipse};
 use crate::solver::{Settings, Walls};
 
 /// The most a falling grain may move in one step, as a fraction of the smallest semi-axis of
@@ -30,6 +30,12 @@ pub const DEPTH_FRACTION: f64 = 0.5;
 /// radius: beyond that, its whole diameter, it was put there by hand (a struck grain's
 /// transient overlaps with the floor stay within its thickness; see `io::dump`).
 pub const SOFT_OUTSIDE_FRACTION: f64 = 2.0;
+
+/// How far an awake grain of the soft model may reach beyond a wall before it has left the
+/// box: [`SOFT_OUTSIDE_FRACTION`] of its bounding radius (a dump's limit, and a run's).
+pub fn soft_outside_limit(shape: &Superellipse) -> f64 {
+    SOFT_OUTSIDE_FRACTION * shape.bounding_radius()
+}
 
 /// The largest `step` count a dump may hold: past 2^53 steps are no longer exact as `f64` times
 /// (and `u64::MAX` wraps at the next step).

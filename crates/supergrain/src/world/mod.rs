@@ -242,8 +242,8 @@ impl World {
         let soft = self.settings.model == Model::Soft;
         self.bodies.iter().position(|b| {
             if soft {
-                let limit = checks::SOFT_OUTSIDE_FRACTION * b.shape.bounding_radius();
-                return checks::depth_outside(&w, &b.bounding_box()) > limit;
+                return checks::depth_outside(&w, &b.bounding_box())
+                    > checks::soft_outside_limit(&b.shape);
             }
             let c = b.center;
             !(c.x >= w.left && c.x <= w.right && c.y >= w.floor)
