@@ -12,8 +12,9 @@ use crate::rapier::Rapier;
 use crate::run::{self, HeapTiming, PourTiming};
 use crate::scene::{Rest, Scene};
 
-/// The settled 1,000-grain pour of pebbles, rice and blocks (`supergrain bench scaling`'s heap).
-pub const HEAP_MIX: &str = include_str!("../../../docs/bench/pour-1000-rest.json");
+/// The settled 1,000-grain pour of pebbles, rice and blocks: `data/pour-1000-mix.toml` poured
+/// to rest by the soft model (the command that made it is in that file).
+pub const HEAP_MIX: &str = include_str!("../data/heap-mix.json");
 /// The settled 1,000 pebbles of `data/pour-1000-circles.toml` (the command that made it is in
 /// that file).
 pub const HEAP_CIRCLES: &str = include_str!("../data/heap-circles.json");
@@ -258,9 +259,13 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                     }
                     case.result = match &heap {
                         Some((world, scene)) => Measured::Heap(match engine {
-                            Engine::Supergrain => {
-                                crate::supergrain::heap(world, threads, o.warmup, o.steps, o.reps)
-                            }
+                            Engine::Supergrain => crate::supergrain::heap(
+                                &crate::supergrain::paper_world(world),
+                                threads,
+                                o.warmup,
+                                o.steps,
+                                o.reps,
+                            ),
                             Engine::Soft => crate::supergrain::heap(
                                 &crate::supergrain::soft_world(world),
                                 threads,

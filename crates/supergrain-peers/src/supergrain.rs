@@ -51,6 +51,22 @@ pub fn soft_world(heap: &World) -> World {
     w
 }
 
+/// A heap stepped by the paper's model, whatever model settled it (the built-in heaps were
+/// poured by the soft one): the paper's sleep radius, as [`paper_scene`].
+pub fn paper_world(heap: &World) -> World {
+    let mut settings = heap.settings;
+    settings.model = Model::Paper;
+    settings.sleep_radius = Settings::default().sleep_radius;
+    World::from_parts(
+        heap.bodies.clone(),
+        heap.walls,
+        settings,
+        0,
+        heap.top,
+        Default::default(),
+    )
+}
+
 /// A scene poured by the paper's model (scene files now default to the soft one), by the spawn
 /// rule the peers follow (`overlap.rs`: a blocked grain waits while later ones pass it).
 pub fn paper_scene(scene: &Scene) -> Scene {

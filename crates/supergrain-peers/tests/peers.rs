@@ -167,6 +167,38 @@ fn rapier_loads_each_heap_whole() {
     loads_the_heap::<Rapier>(Shapes::Mix);
 }
 
+/// The built-in heaps are settled under the soft model, as the bench steps them (every grain
+/// awake, Box2D's default material): over the 30 untimed steps and the 100 timed ones the heap's
+/// top sinks by less than 0.05, and over the timed ones its grains move at a mean speed below
+/// 5e-3 (a sixtieth of a grain's radius a second). These heaps: 0.022 and 0.0026 (circles), 0.032
+/// and 0.0030 (mix). The heaps the bench took before 2026-12-05 failed: the mix (the paper
+/// model's, `bench scaling`'s) sank 0.84 at a mean speed of 0.11, the circles (poured by an older
+/// soft model) 0.33 at 0.015. The bench timed a heap collapsing.
+#[test]
+fn each_heap_is_settled_as_the_bench_steps_it() {
+    for shapes in [Shapes::Circles, Shapes::Mix] {
+        let (world, _) = bench::heap_scene(shapes).expect("the built-in heap");
+        let soft = supergrain_peers::supergrain::soft_world(&world);
+        let mut w = supergrain::bench::tiled(&soft, 1, soft.settings.broad_phase);
+        let top = |w: &supergrain::world::World| {
+            w.bodies.iter().map(|b| b.center.y).fold(f64::MIN, f64::max)
+        };
+        let start = top(&w);
+        let mut speed = 0.0;
+        for step in 0..130 {
+            w.step();
+            if step >= 30 {
+                speed += w.bodies.iter().map(|b| b.velocity.norm()).sum::<f64>();
+            }
+        }
+        let mean = speed / (100.0 * w.bodies.len() as f64);
+        let sank = start - top(&w);
+        eprintln!("{shapes:?}: sank {sank}, mean speed {mean}");
+        assert!(sank < 0.05, "{shapes:?}: the top sank {sank}");
+        assert!(mean < 5e-3, "{shapes:?}: mean speed {mean}");
+    }
+}
+
 /// The mapped shapes of the mix are larger than the superellipses (a capsule holds its ellipse,
 /// a box its superellipse), by the amount docs/peers.md states.
 #[test]
