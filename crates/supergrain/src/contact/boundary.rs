@@ -775,12 +775,15 @@ pub(crate) fn deepest_on_boundary(
             return None;
         }
         let (em, q) = half.enclose_and_point(mid);
-        try_witness(&mut best, q);
         let fm = if slopes {
             other.lower_bound(&em.b)
         } else {
             f64::NEG_INFINITY
         };
+        // (No witness where the middle's box is bounded above the best one, or outside.)
+        if fm < best.map_or(0.0, |w| w.value) {
+            try_witness(&mut best, q);
+        }
         let m = nodes.len() as u32;
         let nm = Node::new(em, fm, q);
         nodes.push(nm);
