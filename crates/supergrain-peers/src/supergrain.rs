@@ -1,5 +1,5 @@
-//! The supergrain side: whatever `supergrain::world::World` stepping gives (today the paper's
-//! projection model), on the same heap and the same pour as the peers. One thread runs the
+//! The supergrain side: whatever `supergrain::world::World` stepping gives (the soft model, and
+//! the paper's projection model as a baseline), on the same heap and the same pour as the peers. One thread runs the
 //! scene's own settings; more cut the box into strips of the default width
 //! ([`supergrain::solver::strips`]) projected in a rayon pool of that size.
 

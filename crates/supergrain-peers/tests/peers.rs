@@ -171,9 +171,10 @@ fn rapier_loads_each_heap_whole() {
 /// awake, Box2D's default material): over the 30 untimed steps and the 100 timed ones the heap's
 /// top sinks by less than 0.05, and over the timed ones its grains move at a mean speed below
 /// 5e-3 (a sixtieth of a grain's radius a second). These heaps: 0.022 and 0.0026 (circles), 0.032
-/// and 0.0030 (mix). The heaps the bench took before 2026-12-05 failed: the mix (the paper
-/// model's, `bench scaling`'s) sank 0.84 at a mean speed of 0.11, the circles (poured by an older
-/// soft model) 0.33 at 0.015. The bench timed a heap collapsing.
+/// and 0.0030 (mix). The heaps the bench took before 2026-12-05, both poured by the paper's
+/// model, failed: the mix (`bench scaling`'s) sank 0.84 at a mean speed of 0.11, the circles
+/// 0.33 at 0.015. The bench timed a heap collapsing. (supergrain's side only: the peers settle
+/// their own, slightly larger, shapes in their first steps, docs/peers.md.)
 #[test]
 fn each_heap_is_settled_as_the_bench_steps_it() {
     for shapes in [Shapes::Circles, Shapes::Mix] {
