@@ -120,7 +120,7 @@ impl Default for Options {
             shapes: vec![Shapes::Circles, Shapes::Mix],
             engines: Engine::ALL.to_vec(),
             threads: vec![1, 2],
-            warmup: 30,
+            warmup: 300,
             steps: 100,
             reps: 3,
             rest: Rest::default(),
