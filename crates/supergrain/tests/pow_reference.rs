@@ -46,3 +46,32 @@ fn powers_enclose_the_reference() {
         }
     }
 }
+
+/// The single-precision bounds of the boundary search's arcs
+/// ([`Exponent::pow_down_coarse`]) hold the same reference, and are within their stated
+/// relative width of it, `2 (4 + 11 |e|) 2^-23` (the single-precision power within its pad of
+/// the truth, and the bound a pad beyond that), wherever they are in single precision (bases in
+/// `[1e-8, 1e8]`, exponents up to 16 in size); elsewhere they are the double-precision bounds.
+#[test]
+fn coarse_powers_enclose_the_reference() {
+    let mut single = 0;
+    for (x, e, r) in cases() {
+        let k = Exponent::new(e);
+        let (lo, hi) = (k.pow_down_coarse(x), k.pow_up_coarse(x));
+        assert!(
+            lo <= down(r) && up(r) <= hi,
+            "{x:e}^{e} = {r:e}: [{lo:e}, {hi:e}] misses it"
+        );
+        if (lo, hi) == (k.pow_down(x), k.pow_up(x)) {
+            continue;
+        }
+        single += 1;
+        let width = 2.0 * (4.0 + 11.0 * e.abs()) * f64::from(f32::EPSILON) * (1.0 + 1e-9);
+        assert!(
+            r - lo <= width * r && hi - r <= width * r,
+            "{x:e}^{e} = {r:e}: [{lo:e}, {hi:e}] wider than {width:e} relative"
+        );
+    }
+    // Most of the reference's cases are in the single-precision range.
+    assert!(single > 1500, "only {single} cases in single precision");
+}

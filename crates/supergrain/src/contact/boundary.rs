@@ -38,9 +38,7 @@
 use super::certified::{Deepest, touch_level};
 use super::ray::bracketed_root;
 use crate::geometry::{Aabb, Vec2};
-use crate::interval::{
-    Exponent, ImplicitShape, Interval, PlacedSuperellipse, down, pow_down, pow_up, up,
-};
+use crate::interval::{Exponent, ImplicitShape, Interval, PlacedSuperellipse, down, up};
 use crate::shape::{Pose, Superellipse};
 
 /// A relative pad over the rounding of `1 / e` and of the halves' ends (module docs).
@@ -72,8 +70,14 @@ struct Half {
     by_y: bool,
     e_p: Exponent,
     e_p_float: f64,
-    /// `1 / e_q`, rounded.
+    /// `1 / e_q`, rounded, and as an exponent.
     inv_q: f64,
+    e_q: Exponent,
+    /// Whether the ends' boxes take the single-precision powers
+    /// ([`Exponent::pow_down_coarse`]): a relative `1e-5` wider, for the deepest point's
+    /// search, whose tolerance is a fraction of a cell, not for the support's, which may be
+    /// asked for `1e-6` of the size.
+    coarse: bool,
     /// For the arc's tangent: `e_p / e_q` enclosed.
     ratio: Interval,
     lo: f64,
@@ -137,10 +141,12 @@ impl Half {
     fn enclose_from(&self, p: f64, pp: Interval) -> End {
         let w_lo = down(1.0 - pp.hi).max(0.0);
         let w_hi = up(1.0 - pp.lo).min(1.0);
-        let q = Interval::new(
-            pow_down(w_lo, self.inv_q) * (1.0 - PAD),
-            (pow_up(w_hi, self.inv_q) * (1.0 + PAD)).min(1.0),
-        );
+        let (q_lo, q_hi) = if self.coarse {
+            (self.e_q.pow_down_coarse(w_lo), self.e_q.pow_up_coarse(w_hi))
+        } else {
+            (self.e_q.pow_down(w_lo), self.e_q.pow_up(w_hi))
+        };
+        let q = Interval::new(q_lo * (1.0 - PAD), (q_hi * (1.0 + PAD)).min(1.0));
         let a = Interval::point(p).scale(self.s_p);
         let b = q.scale(self.s_q);
         End {
@@ -461,6 +467,8 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
         e_p: Exponent::new(ex),
         e_p_float: ex,
         inv_q: 1.0 / ey,
+        e_q: Exponent::new(1.0 / ey),
+        coarse: false,
         ratio: ratio(ex, 1.0 / ey),
         lo,
         hi,
@@ -472,6 +480,8 @@ fn halves(ex: f64, ey: f64, sx: f64, sy: f64) -> [Half; 2] {
         e_p: Exponent::new(ey),
         e_p_float: ey,
         inv_q: 1.0 / ex,
+        e_q: Exponent::new(1.0 / ex),
+        coarse: false,
         ratio: ratio(ey, 1.0 / ex),
         lo,
         hi,
@@ -640,7 +650,7 @@ pub(crate) fn deepest_on_boundary(
     let end_point = |half: &Half, p: f64| {
         if any_cusp { half.point(p) } else { Vec2::ZERO }
     };
-    let first = halves(ex, ey, s.x, s.y);
+    let first = halves(ex, ey, s.x, s.y).map(|h| Half { coarse: true, ..h });
     let mut first_ends: Option<[(End, End); 2]> = None;
     let mut table = [first[0]; 8];
     let mut arcs: Vec<Arc> = Vec::with_capacity(16);

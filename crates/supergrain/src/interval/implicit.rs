@@ -245,6 +245,11 @@ impl PlacedSuperellipse {
     /// A lower bound of `f` over the box: [`ImplicitShape::enclose`]'s lower end alone, two
     /// powers at most, and none for a box beyond the shape's box along one axis (`|u| > 1`),
     /// where 0 is returned (the shape's `f` is positive there).
+    ///
+    /// This and the slopes and second derivatives below bound the boundary search's arcs
+    /// ([`crate::contact`]), and take their powers in single precision
+    /// ([`Exponent::pow_down_coarse`], a few millionths looser): the search's tolerances are
+    /// a fraction of a cell, and its witnesses are proven by [`ImplicitShape::enclose`].
     #[inline]
     pub(crate) fn lower_bound(&self, cell: &Aabb) -> f64 {
         let [ex, ey] = self.exponents;
@@ -253,7 +258,7 @@ impl PlacedSuperellipse {
         if u.lo > 1.0 || v.lo > 1.0 {
             return 0.0;
         }
-        down(down(ex.pow_down(u.lo) + ey.pow_down(v.lo)) - 1.0)
+        down(down(ex.pow_down_coarse(u.lo) + ey.pow_down_coarse(v.lo)) - 1.0)
     }
 
     pub fn pose(&self) -> &Pose {
@@ -344,9 +349,9 @@ impl PlacedSuperellipse {
                 // `|u|^(e - 2)` grows with `|u|` for `e > 2` (least at the box's near side) and
                 // falls for `e < 2` (least at the far side, 0 there if the box is the axis).
                 let least = if e > 2.0 {
-                    down(k.pow_down(a.lo) * (1.0 - PAD))
+                    down(k.pow_down_coarse(a.lo) * (1.0 - PAD))
                 } else if a.hi > 0.0 {
-                    down(k.pow_down(a.hi) * (1.0 - PAD))
+                    down(k.pow_down_coarse(a.hi) * (1.0 - PAD))
                 } else {
                     0.0
                 };
@@ -354,7 +359,7 @@ impl PlacedSuperellipse {
             } else {
                 // A star: `e (e - 1) < 0`, most negative at the near side, which `signed_pow`
                 // has kept off the axis.
-                let most = up(k.pow_up(a.lo) * (1.0 + PAD));
+                let most = up(k.pow_up_coarse(a.lo) * (1.0 + PAD));
                 -up(up(up(e * (1.0 - e)) * (1.0 + PAD) * most) * square.hi)
             };
             let term = down(first + slope.times(acc).lo);
@@ -388,27 +393,27 @@ fn signed_pow(t: Interval, e: f64) -> Option<Interval> {
     if e > 1.0 {
         // Increasing in t, 0 at 0.
         let lo = if t.lo >= 0.0 {
-            down_pad(k.pow_down(t.lo))
+            down_pad(k.pow_down_coarse(t.lo))
         } else {
-            -up_pad(k.pow_up(-t.lo))
+            -up_pad(k.pow_up_coarse(-t.lo))
         };
         let hi = if t.hi >= 0.0 {
-            up_pad(k.pow_up(t.hi))
+            up_pad(k.pow_up_coarse(t.hi))
         } else {
-            -down_pad(k.pow_down(-t.hi))
+            -down_pad(k.pow_down_coarse(-t.hi))
         };
         return Some(Interval::new(lo, hi));
     }
     // 0 < e < 1: |t|^(e-1) decreases in |t| and is unbounded at 0.
     if t.lo > 1e-300 {
         Some(Interval::new(
-            down_pad(k.pow_down(t.hi)),
-            up_pad(k.pow_up(t.lo)),
+            down_pad(k.pow_down_coarse(t.hi)),
+            up_pad(k.pow_up_coarse(t.lo)),
         ))
     } else if t.hi < -1e-300 {
         Some(Interval::new(
-            -up_pad(k.pow_up(-t.hi)),
-            -down_pad(k.pow_down(-t.lo)),
+            -up_pad(k.pow_up_coarse(-t.hi)),
+            -down_pad(k.pow_down_coarse(-t.lo)),
         ))
     } else {
         None
