@@ -30,7 +30,7 @@ use super::boundary::{deepest_on_boundary, support_on_boundary};
 use super::ray::push_out_by;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
-use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow, support, support_dual};
+use crate::shape::{HalfPlane, Pose, Superellipse, abs_pow, pow32, support, support_dual};
 
 /// A relative pad over the rounding of the certificate's formulas (module docs).
 const PAD: f64 = 1e-12;
@@ -355,9 +355,10 @@ fn support_point(shape: &Superellipse, m: Vec2) -> Option<Vec2> {
 }
 
 /// `f`, its gradient and the diagonal of its Hessian for one axis term `|c / s|^e`, with no
-/// division by `t` and no `powf` for the common exponents 2 and 4 (`inv_s = 1 / s`).
+/// division by `t` and no `powf` for the common exponents 2 and 4 (`inv_s = 1 / s`). `pow`:
+/// [`abs_pow`], or [`pow32`] for Newton's iterations before its last.
 #[inline]
-fn axis_term(c: f64, inv_s: f64, e: f64) -> (f64, f64, f64) {
+fn axis_term(c: f64, inv_s: f64, e: f64, pow: fn(f64, f64) -> f64) -> (f64, f64, f64) {
     let t = c * inv_s;
     if e == 2.0 {
         return (t * t, 2.0 * t * inv_s, 2.0 * inv_s * inv_s);
@@ -366,7 +367,7 @@ fn axis_term(c: f64, inv_s: f64, e: f64) -> (f64, f64, f64) {
         let t2 = t * t;
         return (t2 * t2, 4.0 * t2 * t * inv_s, 12.0 * t2 * inv_s * inv_s);
     }
-    let m = abs_pow(t, e);
+    let m = pow(t, e);
     if t == 0.0 {
         let h = if e > 2.0 { 0.0 } else { f64::INFINITY };
         return (m, 0.0, h);
@@ -383,12 +384,13 @@ fn value_gradient_hessian(
     rotation: Rotation,
     centre: Vec2,
     p: Vec2,
+    pow: fn(f64, f64) -> f64,
 ) -> (f64, Vec2, [f64; 3]) {
     let q = rotation.apply_inverse(p - centre);
     let [ex, ey] = shape.exponents();
     let inv = shape.inv_semi_axes();
-    let (mu, gu, hu) = axis_term(q.x, inv.x, ex);
-    let (mv, gv, hv) = axis_term(q.y, inv.y, ey);
+    let (mu, gu, hu) = axis_term(q.x, inv.x, ex, pow);
+    let (mv, gv, hv) = axis_term(q.y, inv.y, ey, pow);
     let (c, sn) = (rotation.cos, rotation.sin);
     let g = Vec2::new(c * gu - sn * gv, sn * gu + c * gv);
     let h = [
@@ -401,33 +403,63 @@ fn value_gradient_hessian(
 
 /// Where the ray from `own`'s centre through `p` meets `own`'s boundary (own in its frame).
 pub(crate) fn radial_to_boundary(own: &Superellipse, p: Vec2) -> Option<Vec2> {
+    radial(own, p, false)
+}
+
+/// [`radial_to_boundary`] in double precision, or with [`pow32`]'s powers to their own
+/// accuracy (`coarse`). For equal exponents the closed form; for unequal ones Newton on the scale `t` of `p`,
+/// `phi(t) = a t^ex + b t^ey - 1`, increasing and convex for `t > 0`, from the right of its
+/// root, where it converges monotonically. `p` is first scaled so that its larger term is 1:
+/// then the root is in `[2^(-1/e_min), 1]` and no power overflows. (Unscaled, where the sum
+/// `a + b` is below 1, the start was `(a + b)^(-1/e_min)`, for a ray along an axis of exponent
+/// 1 some 1e15 too far out, where single precision's powers overflow: a property test found
+/// it.)
+fn radial(own: &Superellipse, p: Vec2, coarse: bool) -> Option<Vec2> {
     let [ex, ey] = own.exponents();
     let inv = own.inv_semi_axes();
-    let (a, b) = (abs_pow(p.x * inv.x, ex), abs_pow(p.y * inv.y, ey));
-    let h = a + b;
-    if !(h > 0.0 && h.is_finite()) {
+    let pow = if coarse { pow32 } else { abs_pow };
+    if ex == ey {
+        let h = pow(p.x * inv.x, ex) + pow(p.y * inv.y, ey);
+        if !(h > 0.0 && h.is_finite()) {
+            return None;
+        }
+        return Some(if coarse {
+            p * pow32(h, -1.0 / ex)
+        } else {
+            p * root(h, ex).recip()
+        });
+    }
+    let k = (p.x * inv.x).abs().max((p.y * inv.y).abs());
+    if !(k > 0.0 && k.is_finite()) {
         return None;
     }
-    if ex == ey {
-        return Some(p * root(h, ex).recip());
-    }
-    // phi(t) = a t^ex + b t^ey - 1 is increasing and convex for t > 0: Newton from the side
-    // where phi > 0 converges monotonically.
-    let mut t = h.powf(-1.0 / ex.max(ey)).max(h.powf(-1.0 / ex.min(ey)));
+    let p = p * k.recip();
+    let (a, b) = (pow(p.x * inv.x, ex), pow(p.y * inv.y, ey));
+    let stop = if coarse { 1e-6 } else { 1e-15 };
+    // Where the sum alone would reach 1 with the larger exponent: right of the root, as
+    // `t <= 1` there (the sum is at least 1) and `t^e >= t^e_max`.
+    let mut t = pow(a + b, -1.0 / ex.max(ey)).min(1.0);
     for _ in 0..30 {
-        let (pa, pb) = (a * t.powf(ex), b * t.powf(ey));
-        let phi = pa + pb - 1.0;
-        let dphi = (ex * pa + ey * pb) / t;
-        let step = phi / dphi;
+        let (pa, pb) = (a * pow(t, ex), b * pow(t, ey));
+        let step = (pa + pb - 1.0) * t / (ex * pa + ey * pb);
         t -= step;
         if !(t > 0.0 && t.is_finite()) {
             return None;
         }
-        if step.abs() <= 1e-15 * t {
+        if step.abs() <= stop * t {
             break;
         }
     }
     Some(p * t)
+}
+
+/// [`radial_to_boundary`] with [`pow32`]'s powers, to their own accuracy (a step of a
+/// millionth, the next one's size being about its square or the powers' rounding, 1e-7). The
+/// patches' walks take thousands of rays a step for a pour of unequal exponents (in
+/// `pour-mixed.toml`, 6,700 a step at step 1,000, when double precision's Newton took eleven
+/// powers a ray); also the start of [`newton`].
+pub(crate) fn ray32(shape: &Superellipse, p: Vec2) -> Option<Vec2> {
+    radial(shape, p, true)
 }
 
 /// Newton on the conditions for `argmin f_other` over `own`'s boundary: `grad f_other + l grad
@@ -443,18 +475,31 @@ fn newton(
     start: Option<Vec2>,
 ) -> Option<(Vec2, Option<Vec2>)> {
     let (rot, c) = (rel.rotation(), rel.center());
+    // The start and the iterations but the last in single precision ([`pow32`]): Newton's
+    // answer only has to be near the minimum for the certificate, which is computed in double
+    // precision's intervals, and the last iteration, in double precision, takes an iterate
+    // within 1e-7 of the answer to within its square.
+    // (Exponents 2 and 4 have exact powers, and keep double precision throughout.)
+    let exact = |s: &Superellipse| s.exponents().iter().all(|&e| e == 2.0 || e == 4.0);
+    let coarse = !(exact(own) && exact(other));
+    let project = if coarse { ray32 } else { radial_to_boundary };
     let mut x = start
-        .and_then(|s| radial_to_boundary(own, s))
-        .or_else(|| radial_to_boundary(own, c))?;
+        .and_then(|s| project(own, s))
+        .or_else(|| project(own, c))?;
     let size = own.min_semi_axis();
     let max_step = 0.25 * size;
     let converged_step2 = (1e-6 * size) * (1e-6 * size);
+    // Close enough for the last iteration: the next step is then about the square of this
+    // one's (times the curvature's scale) or the single-precision powers' rounding, 1e-7.
+    let near_step2 = (1e-4 * size) * (1e-4 * size);
     let id = Rotation::IDENTITY;
+    let mut fine = !coarse;
     // The multiplier starts from the gradients at the start, as the first iteration finds them.
     let mut l = f64::NAN;
     for _ in 0..MAX_ITERATIONS {
-        let (fa, ga, ha) = value_gradient_hessian(own, id, Vec2::ZERO, x);
-        let (_, gb, hb) = value_gradient_hessian(other, rot, c, x);
+        let pow: fn(f64, f64) -> f64 = if fine { abs_pow } else { pow32 };
+        let (fa, ga, ha) = value_gradient_hessian(own, id, Vec2::ZERO, x, pow);
+        let (_, gb, hb) = value_gradient_hessian(other, rot, c, x, pow);
         let first = l.is_nan();
         if first {
             // The multiplier that best cancels `gb + l ga`: one division, no square root (the
@@ -470,7 +515,7 @@ fn newton(
             }
         }
         let r = [gb.x + l * ga.x, gb.y + l * ga.y, fa];
-        if first {
+        if first && fine {
             // The start solves the conditions already (two circles, or a warm start that has
             // not moved): on the boundary, with opposite normals to within 1e-10, which puts
             // Newton's step below the convergence threshold. The start is on the boundary, so
@@ -504,12 +549,15 @@ fn newton(
         // convergence is slow (flat faces) `1e-6` is far below any tolerance the certificate
         // needs (half a final cell, about `2e-3` of the size at depth 7). 5% off a step of the
         // 100,000-grain heap.
-        if step2 <= converged_step2 {
+        if fine && step2 <= converged_step2 {
             // The last step solved `f_own + grad f_own . dx = 0`, so `f_own` is now of the
             // order of the step squared (1e-12 of the size away from the boundary at most, far
             // inside the 1e-9 the caller moves the point in): no projection, and its three
             // powers, needed.
             return x.is_finite().then_some((x, Some(gb)));
+        }
+        if step2 <= near_step2 {
+            fine = true;
         }
     }
     if !x.is_finite() {

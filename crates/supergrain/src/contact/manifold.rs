@@ -22,10 +22,10 @@
 //! it turns. Pairs whose overlap has several regions (stars) get the region of the deepest
 //! points here; issue 19 reports every region.
 
-use super::certified::radial_to_boundary;
+use super::certified::{radial_to_boundary, ray32};
 use super::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::shape::{HalfPlane, Pose, Superellipse, pow32};
 
 /// At most this many points per manifold: the middle and the two ends.
 pub const MAX_POINTS: usize = 3;
@@ -168,23 +168,6 @@ fn separation(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     f / len
 }
 
-/// `|t|^e` in single precision. A manifold's points are where the solver pushes, found by
-/// searches along the boundary; no certificate rests on them, and a relative error of 1e-7
-/// moves them by a ten-millionth of a grain. Single precision's `powf` does two to three
-/// times as many powers a second as double's (measured here: 4.8 against 12.3 ns), and the
-/// patch of a blocky contact needs about fifty (the profile of a settled mixed heap: a quarter
-/// of its step was `pow`).
-fn pow32(t: f64, e: f64) -> f64 {
-    let a = t.abs();
-    if e == 2.0 {
-        a * a
-    } else if e == 4.0 {
-        (a * a) * (a * a)
-    } else {
-        f64::from((a as f32).powf(e as f32))
-    }
-}
-
 /// [`separation`] with [`pow32`]'s powers.
 fn separation32(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     let q = pose.to_local(q);
@@ -204,41 +187,6 @@ fn separation32(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     } else {
         f64::INFINITY
     }
-}
-
-/// Where the ray from the centre of a convex `shape` (its frame) through `p` meets the
-/// boundary, with [`pow32`]'s powers: the closed form for equal exponents, and for unequal ones
-/// [`radial_to_boundary`]'s Newton on the scale `t` of `p`, `a t^ex + b t^ey = 1`, to the
-/// single-precision powers' own accuracy. (The patches' walks take thousands of rays a step
-/// for a pour of unequal exponents: in `pour-mixed.toml`, 6,700 a step at step 1,000, when
-/// double precision's Newton took eleven powers a ray.)
-fn ray32(shape: &Superellipse, p: Vec2) -> Option<Vec2> {
-    let [ex, ey] = shape.exponents();
-    let inv = shape.inv_semi_axes();
-    let (a, b) = (pow32(p.x * inv.x, ex), pow32(p.y * inv.y, ey));
-    let h = a + b;
-    if !(h > 0.0 && h.is_finite()) {
-        return None;
-    }
-    if ex == ey {
-        return Some(p * pow32(h, -1.0 / ex));
-    }
-    // From the larger single-exponent answer (where the sum is at least 1), as
-    // `radial_to_boundary`; stopped once a step is below a millionth, the next one's size
-    // being about its square or the powers' rounding (1e-7).
-    let mut t = pow32(h, -1.0 / ex.max(ey)).max(pow32(h, -1.0 / ex.min(ey)));
-    for _ in 0..30 {
-        let (pa, pb) = (a * pow32(t, ex), b * pow32(t, ey));
-        let step = (pa + pb - 1.0) * t / (ex * pa + ey * pb);
-        t -= step;
-        if !(t > 0.0 && t.is_finite()) {
-            return None;
-        }
-        if step.abs() <= 1e-6 * t {
-            break;
-        }
-    }
-    Some(p * t)
 }
 
 /// Whether a shape is a star (an exponent below 1), whose contacts can have several regions.
@@ -766,8 +714,8 @@ mod tests {
 
     proptest! {
         /// The single-precision searches agree with double precision's: the ray's boundary
-        /// point to a millionth of the grain, the separation to a millionth of a unit (a bug in
-        /// an exponent or a gradient term is off by far more).
+        /// point to a millionth of the grain, the separation to 1e-5 relative (a bug in an
+        /// exponent or a gradient term is off by far more).
         #[test]
         fn single_precision_rays_and_separations_agree_with_double(
             sx in 0.1f64..1.0, sy in 0.1f64..1.0, e in 1.0f64..10.0,
@@ -791,7 +739,9 @@ mod tests {
             let pose = Pose::new(Vec2::new(0.3, -0.2), angle).unwrap();
             let q = Vec2::new(x, y);
             let (fast, exact) = (separation32(&s, &pose, q), separation(&s, &pose, q));
-            prop_assert!((fast - exact).abs() <= 1e-6 * (1.0 + exact.abs()), "{fast} {exact}");
+            // (Relative 1e-5: the exponent rounded to `f32` errs by `|e ln t| 2^-24`, 1e-6 of
+            // a separation near the centre of an exponent-8 grain, found at 30,000 cases.)
+            prop_assert!((fast - exact).abs() <= 1e-5 * (1.0 + exact.abs()), "{fast} {exact}");
         }
     }
 }
