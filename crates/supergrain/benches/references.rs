@@ -7,6 +7,13 @@
 //!   contact): started from its answer for the pair one small move earlier.
 //! - **parry2d** (f64): contact between 64-gon convex polygons on the same boundaries.
 //!
+//! Classes: circles, ellipses, squircles, and the convex pairs of `bench contact`'s mixed class
+//! (every exponent in [1, 4], each axis its own), where every power is a `pow`. The Newton
+//! reference takes one `pow` an axis for `F`, its gradient and Hessian (`t^(e-2)`, the others
+//! by multiplying), as a careful implementation would; until 2026-12-05 it took three, which
+//! made it about twice as slow and our certified path look faster than it is against the
+//! method (docs/performance.md).
+//!
 //! Both references exist in this benchmark only. Neither handles exponents below 1 (a
 //! superellipse is then not convex: Newton's Hessian is singular on the axes and a polygon would
 //! need decomposing); the quadtree does, at the cost shown by `contact` in `benches/contact.rs`.
@@ -32,11 +39,22 @@ fn f_grad_hess(s: &Superellipse, pose: &Pose, x: Vec2) -> (f64, Vec2, [[f64; 2];
     let l = pose.to_local(x);
     let (su, sv) = (l.x / ax.x, l.y / ax.y);
     let (au, av) = (su.abs(), sv.abs());
-    let f = au.powf(p) + av.powf(q) - 1.0;
-    let gu = p / ax.x * au.powf(p - 1.0) * su.signum();
-    let gv = q / ax.y * av.powf(q - 1.0) * sv.signum();
-    let huu = p * (p - 1.0) / (ax.x * ax.x) * au.powf(p - 2.0);
-    let hvv = q * (q - 1.0) / (ax.y * ax.y) * av.powf(q - 2.0);
+    // One `pow` an axis, `t^(e-2)`, and the others by multiplying (as a careful Newton code
+    // would: `pow` is most of the cost), or the three powers where `t = 0`.
+    let powers = |t: f64, e: f64| {
+        if t > 0.0 {
+            let h = t.powf(e - 2.0);
+            (h * t * t, h * t, h)
+        } else {
+            (t.powf(e), t.powf(e - 1.0), t.powf(e - 2.0))
+        }
+    };
+    let ((fu, gu1, hu2), (fv, gv1, hv2)) = (powers(au, p), powers(av, q));
+    let f = fu + fv - 1.0;
+    let gu = p / ax.x * gu1 * su.signum();
+    let gv = q / ax.y * gv1 * sv.signum();
+    let huu = p * (p - 1.0) / (ax.x * ax.x) * hu2;
+    let hvv = q * (q - 1.0) / (ax.y * ax.y) * hv2;
     let r = pose.rotation();
     let (c, sn) = (r.cos, r.sin);
     // grad = R (gu, gv); H = R diag(huu, hvv) R^T.
@@ -195,12 +213,24 @@ fn median(mut v: Vec<f64>) -> f64 {
 
 fn references(c: &mut Criterion) {
     let precision = Precision::default();
-    for class in [
+    // The mixed class's convex pairs (every exponent from 1): `bench contact`'s mixed class
+    // without its stars, the general exponents the Newton codes take, with `pow` for every
+    // power.
+    let convex = |s: &Superellipse| s.exponents().iter().all(|&e| e >= 1.0);
+    let mixed_convex: Vec<Pair> = near_touching_pairs(ShapeClass::Mixed, 20 * PAIRS, 0.02, 1)
+        .into_iter()
+        .filter(|p| convex(&p.a) && convex(&p.b))
+        .take(PAIRS)
+        .collect();
+    for (name, pairs) in [
         ShapeClass::Circles,
         ShapeClass::Ellipses,
         ShapeClass::Squircles,
-    ] {
-        let pairs = near_touching_pairs(class, PAIRS, 0.02, 1);
+    ]
+    .map(|class| (class.name(), near_touching_pairs(class, PAIRS, 0.02, 1)))
+    .into_iter()
+    .chain([("mixed convex (exponents in [1, 4])", mixed_convex)])
+    {
         let starts: Vec<_> = pairs.iter().map(cold_start).collect();
         // Warm starts: each pair's answer before the nudge.
         let warm: Vec<_> = pairs
@@ -279,7 +309,7 @@ fn references(c: &mut Criterion) {
              depth-12 quadtree: ours {:.2e} (certified Newton on {} of {} pairs, else the \
              depth-7 quadtree), the depth-7 quadtree alone {:.2e}, Newton {:.2e}, parry 64-gons \
              {:.2e}; Newton failed on {} of {} pairs, mean iterations cold {:.1}, warm {:.1}",
-            class.name(),
+            name,
             ours_err.len(),
             median(ours_err),
             certified,
@@ -293,7 +323,7 @@ fn references(c: &mut Criterion) {
             f64::from(iterations.1) / pairs.len() as f64,
         );
 
-        let mut group = c.benchmark_group(format!("references, {}", class.name()));
+        let mut group = c.benchmark_group(format!("references, {name}"));
         group.throughput(Throughput::Elements(PAIRS as u64));
         group.bench_function("ours (certified Newton, quadtree fallback; cold)", |b| {
             b.iter(|| {
