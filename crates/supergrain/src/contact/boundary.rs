@@ -707,7 +707,14 @@ pub(crate) fn deepest_on_boundary(
     }
     // A boundary point `q` as a witness: moved towards `own`'s centre until it is proven
     // inside both (a hair first, more at a spike's tip), kept if deeper than the best so far.
+    let (other_axes, other_pose) = (other.shape().semi_axes(), other.pose());
     let try_witness = |best: &mut Option<Witness>, q: Vec2| {
+        // Beyond `other`'s box in its frame a point is outside (a term alone is at least 1):
+        // no power for most of the tips.
+        let l = other_pose.to_local(q);
+        if l.x.abs() >= other_axes.x || l.y.abs() >= other_axes.y {
+            return;
+        }
         let value = other.value(q);
         if !(value < 0.0 && best.is_none_or(|w| value < w.value)) {
             return;
