@@ -543,8 +543,8 @@ fn newton(
         // Squared lengths: a square root only for a step to cut.
         let step2 = dx.dot(dx);
         // A step back the way the last one came, not much shorter: Newton cycling about a
-        // point where `own`'s curvature is unbounded (the tip of an axis of exponent below 2,
-        // `|t|^(e-2)` in the Hessian). Each such step is cut to half the last one's length,
+        // point where a Hessian is unbounded (next to the tip of an axis of exponent below 2
+        // of either shape, `|t|^(e-2)`). Each such step is cut to half the last one's length,
         // so the iterates close in on where the direction turns.
         if kinked && dx.dot(last_dx) < 0.0 && step2 > 0.25 * last_dx.dot(last_dx) {
             max_step = 0.5 * last_dx.dot(last_dx).sqrt();
