@@ -483,8 +483,22 @@ fn newton(
     let exact = |s: &Superellipse| s.exponents().iter().all(|&e| e == 2.0 || e == 4.0);
     let coarse = !(exact(own) && exact(other));
     let project = if coarse { ray32 } else { radial_to_boundary };
+    // A warm start (where the last query of the pair found its point, on `own`'s boundary but
+    // for the hair it was moved in) needs no projection: two powers to see that, against the
+    // projection's ten or so.
+    let on_boundary = |s: Vec2| {
+        let inv = own.inv_semi_axes();
+        let [ex, ey] = own.exponents();
+        (pow32(s.x * inv.x, ex) + pow32(s.y * inv.y, ey) - 1.0).abs() <= 1e-6
+    };
     let mut x = start
-        .and_then(|s| project(own, s))
+        .and_then(|s| {
+            if coarse && on_boundary(s) {
+                Some(s)
+            } else {
+                project(own, s)
+            }
+        })
         .or_else(|| project(own, c))?;
     let size = own.min_semi_axis();
     let mut max_step = 0.25 * size;
