@@ -343,3 +343,69 @@ fn blocky_thin_and_unequal_pairs_are_never_decided_wrong() {
         "{overlaps} {apart}"
     );
 }
+
+/// Grains far from the origin, and grains small against their coordinates: the reported
+/// deepest points must still lie inside both shapes in world coordinates, where rounding moves
+/// them by a few ulps of the coordinates. Found by a hostile test: at 1e8, the certified
+/// Newton path (convex pairs) reported points exactly on a shape's boundary, having proven
+/// them inside only a hair (1e-9 of the size) in, in its own frame; 23 to 32 of 57 overlaps
+/// were outside a shape at 1e7 to 1e9.
+#[test]
+fn deepest_points_far_from_the_origin_are_inside_both_in_world_coordinates() {
+    let precision = Precision::new(DEPTH, 0.0).unwrap();
+    let mut rng = Rng::new(23);
+    let (mut overlaps, mut certified) = (0u32, 0u32);
+    for i in 0..400 {
+        // Unit grains at 1e5 to 1e9 from the origin, or grains of 3e-9 to 1e-6 at 1 to 1e3.
+        let (far, size) = if i % 2 == 0 {
+            (10f64.powf(rng.range(5.0, 9.0)), 1.0)
+        } else {
+            (
+                10f64.powf(rng.range(0.0, 3.0)),
+                10f64.powf(rng.range(-8.5, -6.0)),
+            )
+        };
+        let exponent = |rng: &mut Rng| rng.range(1.0, 4.0);
+        let shape = |rng: &mut Rng, c: [f64; 2]| Shape {
+            c,
+            angle: rng.range(0.0, TAU),
+            s: [size * rng.range(0.5, 1.0), size * rng.range(0.5, 1.0)],
+            e: [exponent(rng), exponent(rng)],
+        };
+        let dir = rng.range(0.0, TAU);
+        let c = [far * dir.cos(), far * dir.sin()];
+        let a = shape(&mut rng, c);
+        // B's centre inside A's inscribed circle's reach: overlapping by a fair part of a size.
+        let towards = rng.range(0.0, TAU);
+        let d = size * rng.range(0.5, 1.2);
+        let b = shape(
+            &mut rng,
+            [c[0] + d * towards.cos(), c[1] + d * towards.sin()],
+        );
+        let (la, pa) = to_lib(&a);
+        let (lb, pb) = to_lib(&b);
+        for (order, (x, y), c) in [
+            ("A, B", (&a, &b), contact(&la, &pa, &lb, &pb, &precision)),
+            ("B, A", (&b, &a), contact(&lb, &pb, &la, &pa, &precision)),
+        ] {
+            let Some(p) = c.penetration else { continue };
+            overlaps += 1;
+            certified += u32::from(c.cells == 0);
+            for (name, q) in [("A1", p.a_deepest), ("A2", p.b_deepest)] {
+                let q = q.to_array();
+                assert!(
+                    x.f(q) < 0.0 && y.f(q) < 0.0,
+                    "pair {i} ({order}): {name} {q:?} is not inside both (f = {}, {}): {x:?} {y:?}",
+                    x.f(q),
+                    y.f(q)
+                );
+            }
+        }
+    }
+    // Most of the 800 queries overlap and are answered by the certified path.
+    assert!(overlaps >= 500, "{overlaps} overlaps");
+    assert!(
+        certified * 10 >= overlaps * 9,
+        "{certified} of {overlaps} certified"
+    );
+}

@@ -58,7 +58,7 @@ const MAX_ARCS: usize = 192;
 /// How far towards `own`'s centre a witness is moved, tried in turn: a hair first (as the
 /// Newton path), then more for a spike's tip, where the rounding of the pose moves points
 /// across the thin spike.
-const INWARD: [f64; 3] = [1e-9, 1e-6, 1e-3];
+pub(super) const INWARD: [f64; 3] = [1e-9, 1e-6, 1e-3];
 
 /// One half of a quadrant, a graph over its parameter.
 #[derive(Clone, Copy)]

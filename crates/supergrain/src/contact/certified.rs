@@ -26,7 +26,7 @@
 //! proof. When it fails, the caller runs the quadtree: the answer is never less certain than
 //! the paper's, only faster when Newton has found the point.
 
-use super::boundary::{deepest_on_boundary, support_on_boundary};
+use super::boundary::{INWARD, deepest_on_boundary, support_on_boundary};
 use super::ray::push_out_by;
 use crate::geometry::{Rotation, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse, up};
@@ -85,7 +85,7 @@ pub(crate) fn certified_contact(
 ) -> Option<Certified> {
     let newton = eligible(local_a.shape(), local_b.shape());
     let deepest = |own: &PlacedSuperellipse, other: &PlacedSuperellipse, start: Option<Vec2>| {
-        if newton && let Some(found) = deepest(own, other, cell, start) {
+        if newton && let Some(found) = deepest(own, other, cell, slack, start) {
             return Some(found);
         }
         deepest_on_boundary(own, other, cell, slack)
@@ -153,11 +153,14 @@ pub(crate) enum Deepest {
 
 /// The deepest point of `own` in `other`, in `own`'s frame (`placed_own` at the origin,
 /// `placed_other` where `other` is in that frame), and Newton's point (a warm start).
-/// `start`: a point near the answer, if known.
+/// `start`: a point near the answer, if known. `slack`: the point is proven inside both over
+/// the box of that half-width about it (a few ulps of the world coordinates it is reported in,
+/// as the boundary search's witnesses), so that it stays inside when moved to the world.
 fn deepest(
     placed_own: &PlacedSuperellipse,
     placed_other: &PlacedSuperellipse,
     cell: f64,
+    slack: f64,
     start: Option<Vec2>,
 ) -> Option<(Deepest, Vec2)> {
     let (own, other, rel) = (
@@ -167,6 +170,8 @@ fn deepest(
     );
     debug_assert_eq!(*placed_own.pose(), Pose::ORIGIN);
     let centre = rel.center();
+    // An enclosure of a shape's `f` over the box of half-width `slack` about `q`.
+    let around = |shape: &PlacedSuperellipse, q: Vec2| shape.enclose_around(q, slack);
 
     // `own` holds `other`'s centre: that centre is the answer (`f_other >= -1` everywhere).
     // (Its plain value first: an enclosure cannot prove inside a point whose value is > 0.)
@@ -176,27 +181,43 @@ fn deepest(
         && own.local_value(centre) < 1e-9
         && placed_own.enclose_point(centre).hi < 0.0
     {
-        return (placed_other.enclose_point(centre).hi < 0.0)
+        return (around(placed_own, centre).hi < 0.0 && around(placed_other, centre).hi < 0.0)
             .then_some((Deepest::At(centre), centre));
     }
 
-    let (x, gradient) = newton(own, other, rel, start)?;
-    // A hair towards own's centre, so that being inside own survives rounding (own is
-    // star-shaped about its centre).
-    let x = x * (1.0 - 1e-9);
+    let (found, gradient) = newton(own, other, rel, start)?;
     // The tolerance's scale only (any `tau` gives a proof, of "deepest up to `tau`"): Newton's
     // last gradient, when it converged, is that at `x` to about 1e-6 relative.
-    let gradient = gradient.unwrap_or_else(|| other.gradient(rel, x));
+    let gradient = gradient.unwrap_or_else(|| other.gradient(rel, found));
     let tau = 0.5 * cell * len(gradient);
     if !tau.is_finite() {
         return None;
     }
-    let f_own = placed_own.enclose_point(x);
-    let plane = half_plane(own, x, f_own.lo)?;
-    let f_other = placed_other.enclose_point(x);
-    if f_other.hi < 0.0 && f_own.hi < 0.0 {
-        return proves_above(plane, other, rel, f_other.hi - tau).then_some((Deepest::At(x), x));
+    // A hair towards own's centre, so that being inside own survives rounding (own is
+    // star-shaped about its centre); more where the slack of the world's coordinates asks it
+    // (grains far from the origin, or small against their coordinates: at 1e8 a point a hair
+    // inside was reported on the boundary, found by a hostile test).
+    let first = found * (1.0 - INWARD[0]);
+    let first_own = around(placed_own, first);
+    for (i, k) in INWARD.into_iter().enumerate() {
+        let (x, f_own) = if i == 0 {
+            (first, first_own)
+        } else {
+            let x = found * (1.0 - k);
+            (x, around(placed_own, x))
+        };
+        let f_other = around(placed_other, x);
+        if f_own.hi < 0.0 && f_other.hi < 0.0 {
+            let plane = half_plane(own, x, f_own.lo)?;
+            return proves_above(plane, other, rel, f_other.hi - tau)
+                .then_some((Deepest::At(x), x));
+        }
+        if f_other.lo >= 0.0 || f_other.lo.is_nan() {
+            // Proven outside other (or NaN): further in does not help.
+            break;
+        }
     }
+    let (x, plane) = (first, half_plane(own, first, first_own.lo)?);
     // No overlap to report: a proof that no point of own is deeper in other than half a
     // final cell. Resting grains touch to within rounding, and this keeps them off the quadtree.
     proves_above(plane, other, rel, -touch_level(other, cell)).then_some((Deepest::Beyond, x))
@@ -902,7 +923,7 @@ mod tests {
             let cell = 1e-3;
             let placed_own = PlacedSuperellipse::new(own, Pose::ORIGIN);
             let placed_other = PlacedSuperellipse::new(other, rel);
-            let Some((answer, _)) = deepest(&placed_own, &placed_other, cell, None) else {
+            let Some((answer, _)) = deepest(&placed_own, &placed_other, cell, 0.0, None) else {
                 continue;
             };
             certified += 1;

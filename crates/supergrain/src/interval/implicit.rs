@@ -189,6 +189,27 @@ impl Affine {
         }
         self.enclose(&Aabb::point(p))
     }
+
+    /// [`Affine::enclose`] of the box of half-width `r` about `p`, as cheap as
+    /// [`Affine::enclose_point`] for an axis-aligned shape: the map moves the box's points by at
+    /// most `r / s` from `p`'s image, and `r inv_s (1 + 4 eps)` is at least that (`inv_s` is
+    /// within half an ulp of `1 / s`, a normal number for every valid semi-axis, and the
+    /// product rounds by half an ulp). The ends are rounded outward, as the widening may be
+    /// far larger than `q`.
+    #[inline(always)]
+    fn enclose_around(&self, p: Vec2, r: f64) -> Interval {
+        if let Some(Aligned { axis, c, inv_s, .. }) = self.aligned {
+            let x = if axis == 0 { p.x } else { p.y };
+            let q = (x - c) * inv_s;
+            let w = r * inv_s * (1.0 + 4.0 * f64::EPSILON);
+            if q.is_finite() && w.is_finite() {
+                let err = up(up(4.0 * f64::EPSILON * q.abs() + f64::MIN_POSITIVE) + up(w));
+                return Interval::new(down(q - err), up(q + err));
+            }
+        }
+        let d = Vec2::new(r, r);
+        self.enclose(&Aabb::new(p - d, p + d))
+    }
 }
 
 impl PlacedSuperellipse {
@@ -240,6 +261,17 @@ impl PlacedSuperellipse {
 
     pub fn shape(&self) -> &Superellipse {
         &self.shape
+    }
+
+    /// [`ImplicitShape::enclose`] of the box of half-width `r` about `p` (a point proven inside over it
+    /// stays inside when moved by rounding to world coordinates), without divisions for an
+    /// axis-aligned shape, as [`ImplicitShape::enclose_point`].
+    #[inline]
+    pub(crate) fn enclose_around(&self, p: Vec2, r: f64) -> Interval {
+        let [ex, ey] = self.exponents;
+        let hx = self.maps[0].enclose_around(p, r).abs_pow(ex);
+        let hy = self.maps[1].enclose_around(p, r).abs_pow(ey);
+        hx.plus(hy).sub_scalar(1.0)
     }
 
     /// A lower bound of `f` over the box: [`ImplicitShape::enclose`]'s lower end alone, two
