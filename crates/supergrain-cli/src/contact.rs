@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::Parser;
-use supergrain::contact::{contact, contact_quadtree, overlap_regions};
+use supergrain::contact::{contact, contact_quadtree, overlap_regions, unresolved};
 use supergrain::io::{ContactAnswer, ContactQuery, ShapeJson};
 use supergrain::render::contact_svg;
 use supergrain::subdivision::{MAX_DEPTH, Precision};
@@ -30,7 +30,10 @@ longest side of the pair's box intersection over 2^depth). The pushes point apar
 normal. `contacts` lists every overlap region (two stars, or a star on a face, can touch in
 several places), the one of the fields above first, the others deepest first; regions nearer
 each other than a final cell (at most depth 10) count as one.
-Exponents must lie in [0.25, 1000] and semi-axes in [1e-9, 1e9].
+Exponents must lie in [0.25, 1000] and semi-axes in [1e-9, 1e9]. A pair whose final cell is finer
+than double precision resolves at its coordinates (a grain a million times smaller than the
+other, or far from the origin; about 16 ulps of |centres| + radii) is refused with an error,
+as its tolerance could not be held.
 The certified path answers every pair: Newton's method with a proof for convex pairs (every
 exponent >= 1), and a branch and bound over one shape's closed-form boundary for stars and
 when Newton finds no proof; either proves the deepest points inside both shapes and deepest
@@ -161,6 +164,16 @@ fn answer(
     quadtree: bool,
 ) -> Result<ContactAnswer, String> {
     let ((a, pa), (b, pb), precision) = query.resolve(defaults).map_err(|e| e.to_string())?;
+    if let Some((cell, resolution)) = unresolved(&a, &pa, &b, &pb, &precision) {
+        // (Rounded up in the message, so that the value shown is enough.)
+        let enough = resolution * 1.1;
+        return Err(format!(
+            "the pair's final cell ({cell:.2e}) is finer than double precision resolves at \
+             its coordinates and sizes (about {resolution:.2e}), so its answer could not be \
+             held to the tolerance: set --eps (or \"eps\") to at least {enough:.1e}, lower \
+             --depth, or place the grains nearer the origin"
+        ));
+    }
     let method = if quadtree { contact_quadtree } else { contact };
     let found = method(&a, &pa, &b, &pb, &precision);
     let regions = overlap_regions(&a, &pa, &b, &pb, &precision, found.penetration.as_ref());

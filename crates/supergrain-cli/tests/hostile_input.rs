@@ -321,3 +321,46 @@ fn a_state_that_becomes_non_finite_is_never_written() {
     assert!(!out.exists(), "a non-finite state was written");
     assert_eq!(dir_entries(dir.path()), vec!["lone.json".to_string()]);
 }
+
+/// Pairs double precision cannot resolve at their coordinates (found by a hostile test): a
+/// grain of radius 1e-9 centred on the boundary of one of radius 1e6, half its size deep in it,
+/// was answered apart, with a final cell of 1.6e-11 where the coordinates' ulps are 1.2e-10;
+/// a disk of 1e-9 against one of 3e5 overflowed the quadtree's stack (a panic). Now refused,
+/// with the `eps` that would do; and with that `eps` answered.
+#[test]
+fn pairs_finer_than_double_precision_resolves_are_refused_with_the_eps_that_would_do() {
+    for (a, b) in [
+        ("1e6,0,0,1e-9,1e-9,2,2", "0,0,0,1e6,1e6,2,2"),
+        ("0,0,0,3e5,3e5,2,2", "3e5,0,0,1e-9,1e-9,2,2"),
+        ("0,0,0,1e7,1e7,2,2", "1e7,0,0,1e-7,1e-7,2,2"),
+    ] {
+        let e = refused(&sg(&["contact", "--a", a, "--b", b]));
+        assert!(e.contains("finer than double precision"), "{e}");
+        let eps = e
+            .split("at least ")
+            .nth(1)
+            .and_then(|t| t.split(',').next())
+            .expect("a suggested eps");
+        let o = sg(&["contact", "--a", a, "--b", b, "--eps", eps]);
+        ok(&o);
+        let answer: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+        // The small disk is centred on the large one's boundary, half of it (1e-9 or 1e-7)
+        // inside: within the tolerance that `eps` sets (a final cell of at least `eps`), so
+        // either answer is right; an answer it must be.
+        assert!(
+            answer["overlap"].is_boolean(),
+            "{a} {b} with eps {eps}: {answer}"
+        );
+    }
+    // A unit grain at 1e8 is still resolved (cells of 1.6e-2 against 7e-7), and answered.
+    let o = sg(&[
+        "contact",
+        "--a",
+        "1e8,0,0,1,1,4,4",
+        "--b",
+        "100000001.9,0,0,1,1,4,4",
+    ]);
+    ok(&o);
+    let answer: Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(answer["overlap"], true, "{answer}");
+}

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use std::f64::consts::TAU;
 
 use common::*;
-use supergrain::contact::{Contact, contact, contact_quadtree};
+use supergrain::contact::{Contact, contact, contact_quadtree, overlap_regions};
 use supergrain::subdivision::Precision;
 
 const DEPTH: u32 = 7;
@@ -408,4 +408,49 @@ fn deepest_points_far_from_the_origin_are_inside_both_in_world_coordinates() {
         certified * 10 >= overlaps * 9,
         "{certified} of {overlaps} certified"
     );
+}
+
+/// Cells a few ulps wide cannot be halved: a disk of 1e-9 against one of 3e5 (or 1e-7 against
+/// 1e7, two needle stars of 1e9 by 1e-9) overflowed the quadtree's stack, and the contact
+/// regions' cover split such cells forever (found by a hostile test). Each now returns, with
+/// every reported point inside both shapes. (The `contact` command refuses these pairs: their
+/// tolerance cannot be held; the library answers them within its cells.)
+#[test]
+fn cells_too_narrow_to_halve_end_the_subdivision() {
+    let precision = Precision::new(DEPTH, 0.0).unwrap();
+    let disk = |c: [f64; 2], r: f64| Shape {
+        c,
+        angle: 0.0,
+        s: [r, r],
+        e: [2.0, 2.0],
+    };
+    let needle = |c: [f64; 2], angle: f64| Shape {
+        c,
+        angle,
+        s: [1e9, 1e-9],
+        e: [0.25, 0.25],
+    };
+    for (a, b) in [
+        (disk([0.0, 0.0], 3e5), disk([3e5, 0.0], 1e-9)),
+        (disk([0.0, 0.0], 1e7), disk([1e7, 0.0], 1e-7)),
+        (
+            needle([0.0, 0.0], 0.0),
+            needle([1e9, 0.0], std::f64::consts::FRAC_PI_2),
+        ),
+    ] {
+        let (la, pa) = to_lib(&a);
+        let (lb, pb) = to_lib(&b);
+        for c in [
+            contact(&la, &pa, &lb, &pb, &precision),
+            contact_quadtree(&la, &pa, &lb, &pb, &precision),
+        ] {
+            let regions = overlap_regions(&la, &pa, &lb, &pb, &precision, c.penetration.as_ref());
+            for p in c.penetration.iter().chain(&regions) {
+                for q in [p.a_deepest, p.b_deepest] {
+                    let q = q.to_array();
+                    assert!(a.f(q) < 0.0 && b.f(q) < 0.0, "{q:?}: {a:?} {b:?}");
+                }
+            }
+        }
+    }
 }

@@ -21,7 +21,7 @@ pub use ray::{ray_to_boundary, ray_to_convex_boundary};
 pub use regions::{COVER_DEPTH, overlap_regions};
 pub use superellipse_superellipse::{
     contact, contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints,
-    contact_with_cells,
+    contact_with_cells, unresolved,
 };
 pub use superellipse_wall::{contact_wall, contact_wall_quadtree, contact_wall_with_cells};
 

@@ -24,7 +24,7 @@ use super::superellipse_superellipse::{deeper, frame, polish, world_slack};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::{ImplicitShape, PlacedSuperellipse};
 use crate::shape::{Pose, Superellipse};
-use crate::subdivision::{Deepest, Precision};
+use crate::subdivision::{Deepest, Precision, splits};
 
 /// The cover is never finer than this many levels: regions nearer each other than
 /// `1/2^COVER_DEPTH` of the pair's box are counted as one (a depth of 20 would otherwise
@@ -171,7 +171,7 @@ fn cover(
         if fa.lo > 0.0 || fb.lo > 0.0 {
             continue;
         }
-        let (split_x, split_y) = (cell.width() > tol, cell.height() > tol);
+        let (split_x, split_y) = splits(&cell, tol);
         let inside_both = fa.hi < 0.0 && fb.hi < 0.0;
         if inside_both || !(split_x || split_y) {
             let mid = cell.center();

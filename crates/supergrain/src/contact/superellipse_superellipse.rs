@@ -219,6 +219,30 @@ fn cells_and_contact<S: CellSink + ?Sized>(
     }
 }
 
+/// The pair's final cell and the finest distance double precision resolves at its
+/// coordinates, when the cell is the smaller: the stated tolerance (a few final cells) cannot
+/// then be held, and a caller should refuse the pair. `None` for every other pair (and for
+/// pairs whose bounding boxes are apart).
+///
+/// The resolution is `16 eps (|c_A| + |c_B| + R_A + R_B)`: the enclosures of the larger shape
+/// err by several ulps of its size and of the coordinates. A hostile test found a grain of
+/// radius `1e-9` centred on the boundary of one of radius `1e6` answered apart, half its size
+/// deep, with a final cell of `1.6e-11` where the coordinates' ulps are `1.2e-10`.
+pub fn unresolved(
+    a: &Superellipse,
+    pose_a: &Pose,
+    b: &Superellipse,
+    pose_b: &Pose,
+    precision: &Precision,
+) -> Option<(f64, f64)> {
+    let (_, _, region) = frame(a, pose_a, b, pose_b)?;
+    let cell = precision.cell_size(&region);
+    let scale =
+        pose_a.center().norm() + pose_b.center().norm() + a.bounding_radius() + b.bounding_radius();
+    let resolution = 16.0 * f64::EPSILON * scale;
+    (cell < resolution).then_some((cell, resolution))
+}
+
 /// Both shapes in A's frame (parry's `pos12`: A axis-aligned at the origin) and the
 /// intersection of their boxes, or `None` when the bounding circles or boxes are apart.
 // Inlined: the two placed shapes are then built where the caller keeps them, not copied out.

@@ -166,6 +166,19 @@ struct Node {
 
 const STACK: usize = 3 * MAX_DEPTH as usize + 8;
 
+/// Whether each side of `cell` is split: while longer than the final size `tol`, and only where
+/// its midpoint falls strictly between its ends. A cell a few ulps wide (a tiny grain far from
+/// the origin, or against a huge one) cannot be halved: split again and again, it overflowed
+/// this module's stack and looped forever in the contact regions' cover (found by a hostile
+/// test). It is then a final cell, wider than `tol`.
+pub(crate) fn splits(cell: &Aabb, tol: f64) -> (bool, bool) {
+    let m = cell.center();
+    (
+        cell.width() > tol && cell.min.x < m.x && m.x < cell.max.x,
+        cell.height() > tol && cell.min.y < m.y && m.y < cell.max.y,
+    )
+}
+
 /// Searches `region` for the deepest points of the collision of `a` and `b` (paper II and
 /// III-A). `want_b`: also look for `A2` (not needed against a wall, which does not move).
 pub fn deepest_points<A, B, S>(
@@ -204,7 +217,7 @@ where
         fa: a.enclose(region),
         fb: b.enclose(region),
     };
-    let splits = |c: &Aabb| (c.width() > tol, c.height() > tol);
+    let splits = |c: &Aabb| splits(c, tol);
     let (sx, sy) = splits(region);
     sink.cell(region, Class::of(root.fa), Class::of(root.fb), !(sx || sy));
 
