@@ -26,7 +26,8 @@ a_deepest is the point of A most interior to B; a_push moves it along grad f_B t
 arithmetic. false means apart, or touching within the tolerance: no point of one shape lies
 more than the tolerance inside the other. The tolerance is a distance: half a final cell when
 the certified path answered (cells: 0), four final cells from the quadtree (a final cell: the
-longest side of the pair's box intersection over 2^depth). The pushes point apart along one
+longest side of the pair's box intersection over 2^depth; above depth 7, a spike thinner than a
+cell is searched at depth 7's resolution, so four cells of depth 7 there). The pushes point apart along one
 normal. `contacts` lists every overlap region (two stars, or a star on a face, can touch in
 several places), the one of the fields above first, the others deepest first; regions nearer
 each other than a final cell (at most depth 10) count as one.
