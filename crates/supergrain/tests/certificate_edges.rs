@@ -454,3 +454,40 @@ fn cells_too_narrow_to_halve_end_the_subdivision() {
         }
     }
 }
+
+/// A star's spike tip that the quadtree's midpoints pass by (found by a hostile test): at depth
+/// 10 the certified paths prove nothing for this pair (the spike is too thin near its tip for a
+/// witness within the tolerance), and the quadtree reported B's deepest point in A where
+/// `f_A = -0.134`, while B's spike tip, `(0, 2.02)`, has `f_A = -0.2365`. The half-axis search now
+/// runs whatever the midpoints found. Reference: `f_A` at the tip in closed form.
+#[test]
+fn a_spike_tip_the_midpoints_pass_by_is_reported_as_deepest() {
+    let precision = Precision::new(10, 0.0).unwrap();
+    let a = Shape {
+        c: [0.0, 0.0],
+        angle: 0.0,
+        s: [1.25, 2.43],
+        e: [1.46, 1.46],
+    };
+    let b = Shape {
+        c: [0.0, 2.4],
+        angle: 0.0,
+        s: [0.38, 0.38],
+        e: [0.25, 0.3],
+    };
+    let tip = [0.0, 2.4 - 0.38];
+    let deepest = a.f(tip);
+    assert!((deepest + 0.2365).abs() < 1e-3, "{deepest}");
+    let (la, pa) = to_lib(&a);
+    let (lb, pb) = to_lib(&b);
+    let c = contact(&la, &pa, &lb, &pb, &precision);
+    let p = c.penetration.expect("overlap");
+    let q = p.b_deepest.to_array();
+    assert!(a.f(q) < 0.0 && b.f(q) < 0.0, "{q:?} not inside both");
+    // Within a few final cells of the tip (|grad f_A| is about 0.6 there, a cell 7.4e-4).
+    assert!(
+        a.f(q) <= deepest + 4e-3,
+        "B's deepest point {q:?} has f_A = {}, the tip {deepest}",
+        a.f(q)
+    );
+}

@@ -285,10 +285,12 @@ fn quadtree<S: CellSink + ?Sized>(
     } else {
         0.0
     };
-    // Spikes thinner than a cell are searched along the half-axes ([`super::spikes`]) when
-    // the midpoints proved nothing, which makes "no overlap" mean within four final cells of
-    // touching for every shape.
-    if answer == Answer::Sound && (in_a.is_none() || in_b.is_none()) {
+    // Spikes thinner than a cell are searched along the half-axes ([`super::spikes`]), which
+    // makes "no overlap" mean within four final cells of touching for every shape, and finds
+    // a spike's tip that the midpoints passed by (a hostile test: at depth 10 a star's tip
+    // was 60 times deeper in `f` than the deepest midpoint reported; the search had been run
+    // only when the midpoints proved nothing).
+    if answer == Answer::Sound {
         let cell = precision.cell_size(region);
         in_a = deeper(in_a, spike_witness(local_a, local_b, region, cell, slack));
         in_b = deeper(in_b, spike_witness(local_b, local_a, region, cell, slack));
