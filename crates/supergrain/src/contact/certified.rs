@@ -197,15 +197,13 @@ fn deepest(
     // star-shaped about its centre); more where the slack of the world's coordinates asks it
     // (grains far from the origin, or small against their coordinates: at 1e8 a point a hair
     // inside was reported on the boundary, found by a hostile test).
-    let first = found * (1.0 - INWARD[0]);
-    let first_own = around(placed_own, first);
-    for (i, k) in INWARD.into_iter().enumerate() {
-        let (x, f_own) = if i == 0 {
-            (first, first_own)
-        } else {
-            let x = found * (1.0 - k);
-            (x, around(placed_own, x))
-        };
+    let inward = |k: f64| {
+        let x = found * (1.0 - k);
+        (x, around(placed_own, x))
+    };
+    let (first, first_own) = inward(INWARD[0]);
+    let moves = INWARD[1..].iter().map(|&k| inward(k));
+    for (x, f_own) in std::iter::once((first, first_own)).chain(moves) {
         let f_other = around(placed_other, x);
         if f_own.hi < 0.0 && f_other.hi < 0.0 {
             let plane = half_plane(own, x, f_own.lo)?;

@@ -217,8 +217,7 @@ where
         fa: a.enclose(region),
         fb: b.enclose(region),
     };
-    let splits = |c: &Aabb| splits(c, tol);
-    let (sx, sy) = splits(region);
+    let (sx, sy) = splits(region, tol);
     sink.cell(region, Class::of(root.fa), Class::of(root.fb), !(sx || sy));
 
     // Depth first with the most promising child on top; each level pushes at most 3 siblings
@@ -246,7 +245,7 @@ where
         // some witness is found, everywhere: a star's centre may be the only point of the
         // overlap that a coarse tree ever visits.
         let mid = cell.center();
-        let (split_x, split_y) = splits(&cell);
+        let (split_x, split_y) = splits(&cell, tol);
         let last = !(split_x || split_y);
         let pa = if last || !refine || fa.hi < 0.0 || fb.hi < 0.0 || found.in_a.is_none() {
             a.enclose_point(mid)
@@ -299,7 +298,7 @@ where
                 let fb = b.enclose(&c);
                 found.cells += 1;
                 let (ca, cb) = (Class::of(fa), Class::of(fb));
-                let (lx, ly) = splits(&c);
+                let (lx, ly) = splits(&c, tol);
                 sink.cell(&c, ca, cb, !(lx || ly));
                 if ca == Class::Outside || cb == Class::Outside {
                     continue;
