@@ -391,6 +391,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
             world.deepest_penetration(),
             world.max_speed(),
         );
+        if let Some(o) = world.overlaps() {
+            eprintln!(
+                "overlap of the {} touching contacts: mean {:.2e} ({:.3}% of the thinner grain's \
+                 thickness), largest {:.2e} ({:.2}%)",
+                o.contacts,
+                o.mean,
+                100.0 * o.mean_relative,
+                o.max,
+                100.0 * o.max_relative,
+            );
+        }
         if let Some([[sxx, sxy], [_, syy]]) = world.stress() {
             eprintln!(
                 "mean stress of the heap: xx {sxx:.4e}, yy {syy:.4e}, xy {sxy:.4e} (pressure \

@@ -39,7 +39,7 @@ use rayon::prelude::*;
 use super::carry::Carried;
 use super::{Body, NarrowPhase, Settings, StepStats, Stopped, Walls, pair_precision};
 use crate::broad_phase::Near;
-use crate::contact::manifold::{Manifold, grain_manifold, wall_manifold};
+use crate::contact::manifold::{Manifold, ManifoldPoint, grain_manifold, wall_manifold};
 use crate::contact::{
     Contact, Penetration, WarmStart, contact_quadtree, contact_wall, contact_wall_quadtree,
     contact_warm, disk_disk, disk_disk_certified,
@@ -150,8 +150,11 @@ pub struct SoftSettings {
     pub push_out: f64,
     /// Impacts slower than this (units per second) do not bounce.
     pub restitution_threshold: f64,
-    /// The overlap a resting contact keeps: the narrow phase reports a contact within its
-    /// tolerance of touching as apart, so a contact pushed out exactly would flicker on and off.
+    /// The overlap a resting contact keeps on top of its give under load; 0 (the default, as
+    /// Box2D v3's solver): contacts are solved to zero separation. Until 2026-12-06 it was
+    /// 0.005, half of the mean overlap of a heap of disks 0.5-0.7 across (docs/physics.md,
+    /// "Overlap"); contacts are found at the poses of free flight, `g h^2` deeper than at rest
+    /// (0.001 at the default step), so a resting contact does not flicker without it.
     pub slop: f64,
     /// Air drag on the linear and angular velocities (per second); 0: none.
     pub linear_damping: f64,
@@ -170,7 +173,7 @@ impl Default for SoftSettings {
             damping_ratio: 10.0,
             push_out: 3.0,
             restitution_threshold: 1.0,
-            slop: 0.005,
+            slop: 0.0,
             linear_damping: 0.0,
             angular_damping: 0.0,
             carry_reach: 5e-4,
@@ -202,9 +205,36 @@ impl Softness {
     }
 }
 
-/// A contact's patch (see [`crate::contact::manifold`]) reaches this many slops apart: Box2D's
-/// speculative distance.
-const PATCH_MARGIN: f64 = 4.0;
+/// How far apart a contact's patch (see [`crate::contact::manifold`]) reaches, in units: Box2D's
+/// speculative distance (four of its linear slops of 0.005). A length of its own since the slop
+/// became 0 (2026-12-06): the manifolds are those of before.
+const PATCH_REACH: f64 = 0.02;
+
+/// How far apart two disks (or a disk and a wall) at the poses of free flight still get a
+/// contact, with its positive separation: Box2D's speculative distance (`PATCH_REACH`).
+const SPECULATIVE: f64 = 0.02;
+
+/// A speculative contact between two disks (or a disk and a wall, `rb` 0 and `cb` its
+/// point) whose gap at the predicted poses is below [`SPECULATIVE`]: one point in the middle
+/// of the gap, the gap its separation. It is no claim of overlap (its separation is not
+/// negative); it only keeps the two from closing faster than the gap within a substep.
+fn speculative(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<Manifold> {
+    let d = cb - ca;
+    let dist = d.norm();
+    let gap = dist - ra - rb;
+    if !(dist > 0.0 && gap < SPECULATIVE) {
+        return None;
+    }
+    let n = d * (1.0 / dist);
+    Manifold::from_points(
+        n,
+        &[ManifoldPoint {
+            point: ca + n * (ra + 0.5 * gap),
+            separation: gap.max(0.0),
+            id: 0,
+        }],
+    )
+}
 
 /// No body: the wall side of a grain-wall contact.
 pub const STATIC: usize = usize::MAX;
@@ -238,7 +268,9 @@ struct Point {
     normal_impulse: f64,
     tangent_impulse: f64,
     max_normal_impulse: f64,
-    /// The normal velocity before the step (negative: closing), for restitution.
+    /// The normal velocity at impact (negative: closing), for restitution: before the step,
+    /// then, while the point is apart, at the start of each substep (after its gravity), so
+    /// that a grain found a step before it lands bounces with the speed it lands with.
     closing: f64,
     id: u8,
 }
@@ -292,6 +324,9 @@ pub struct ContactForce {
     /// On B, along the normal (>= 0) and along `(n.y, -n.x)`; A feels the opposite.
     pub normal_force: f64,
     pub tangent_force: f64,
+    /// How deep the contact's deepest point overlaps at the end of the step (the solver's
+    /// separation, negated; 0 or less: touching or apart).
+    pub overlap: f64,
 }
 
 /// What the soft step keeps between steps and reuses within one.
@@ -636,6 +671,11 @@ fn find_contacts(
     // The pairs of fat boxes kept from the last step, looked up again only for the grains whose
     // boxes left theirs ([`Near`]): the same pairs as the broad phase's, in the same order.
     work.near.refresh(&work.boxes, settings.broad_phase);
+    let disks: Vec<bool> = bodies
+        .iter()
+        .map(|b| settings.narrow_phase == NarrowPhase::Interval && b.shape.is_circle())
+        .collect();
+    let disks = &disks;
     let (boxes, awake, warm, near) = (&work.boxes, &work.awake, &work.warm, &work.near);
     work.pairs.clear();
     work.pairs.par_extend(
@@ -646,7 +686,9 @@ fn find_contacts(
                 for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(bodies.len()) {
                     for &j in near.later(i) {
                         let j = j as usize;
-                        if (awake[i] || awake[j]) && boxes[i].intersects(&boxes[j]) {
+                        if (awake[i] || awake[j])
+                            && near_boxes(&boxes[i], &boxes[j], disks[i] && disks[j])
+                        {
                             out.push((i, j, warm.get(&(i, j)).copied()));
                         }
                     }
@@ -690,16 +732,19 @@ fn find_contacts(
             // The manifold here too, on all cores: a blocky pair's patch search costs more than
             // its narrow phase.
             let Some(p) = c.penetration else {
-                return Some((None, warm, None));
+                let m = (disks[i] && disks[j])
+                    .then(|| {
+                        speculative(
+                            pa.center(),
+                            a.shape.semi_axes().x,
+                            pb.center(),
+                            b.shape.semi_axes().x,
+                        )
+                    })
+                    .flatten();
+                return Some((m, warm, None));
             };
-            let m = grain_manifold(
-                &a.shape,
-                pa,
-                &b.shape,
-                pb,
-                &p,
-                PATCH_MARGIN * settings.soft.slop,
-            );
+            let m = grain_manifold(&a.shape, pa, &b.shape, pb, &p, PATCH_REACH);
             let kept = carry
                 .then(|| Carried::new(&a.shape, pa, &b.shape, pb, &m, &p))
                 .flatten();
@@ -744,7 +789,7 @@ fn find_contacts(
             let mut tests = 0;
             let mut found = Vec::new();
             for (k, wall) in walls.iter().enumerate() {
-                if !boxes[i].intersects(&wall_boxes[k]) {
+                if !near_boxes(&boxes[i], &wall_boxes[k], disks[i]) {
                     continue;
                 }
                 tests += 1;
@@ -754,9 +799,33 @@ fn find_contacts(
                     }
                     _ => contact_wall(&b.shape, pose, wall, &wall_precision),
                 };
+                if c.penetration.is_none() && disks[i] {
+                    let r = b.shape.semi_axes().x;
+                    let gap = wall.value(pose.center()) - r;
+                    if gap < SPECULATIVE {
+                        let n = wall.normal();
+                        let m = Manifold::from_points(
+                            n,
+                            &[ManifoldPoint {
+                                point: pose.center() - n * (r + 0.5 * gap),
+                                separation: gap.max(0.0),
+                                id: 0,
+                            }],
+                        )
+                        .expect("a point");
+                        found.push(anchored(
+                            STATIC,
+                            i,
+                            (i, STATIC - k),
+                            &m,
+                            bodies,
+                            predicted,
+                            turns,
+                        ));
+                    }
+                }
                 if let Some(p) = c.penetration {
-                    let m =
-                        wall_manifold(&b.shape, pose, wall, &p, PATCH_MARGIN * settings.soft.slop);
+                    let m = wall_manifold(&b.shape, pose, wall, &p, PATCH_REACH);
                     found.push(anchored(
                         STATIC,
                         i,
@@ -777,6 +846,16 @@ fn find_contacts(
         work.constraints.extend(found);
     }
     Ok(stats)
+}
+
+/// Whether two boxes meet, or come within [`SPECULATIVE`] of each other where `grown` (a
+/// pair that may have a speculative contact).
+fn near_boxes(a: &Aabb, b: &Aabb, grown: bool) -> bool {
+    let m = if grown { SPECULATIVE } else { 0.0 };
+    a.min.x - m <= b.max.x
+        && b.min.x - m <= a.max.x
+        && a.min.y - m <= b.max.y
+        && b.min.y - m <= a.max.y
 }
 
 /// A manifold found at the predicted poses, as a constraint between `a` and `b`. Each point's
@@ -952,6 +1031,9 @@ fn solve_one(c: &mut Constraint, s: &mut State, hs: f64, soft: &SoftSettings, bi
         let next = max(p.normal_impulse + raw, 0.0);
         let d = next - p.normal_impulse;
         let q = &mut c.points[k];
+        if bias && sep > 0.0 {
+            q.closing = vn;
+        }
         q.normal_impulse = next;
         q.max_normal_impulse = max(q.max_normal_impulse, next);
         s.apply(c.a, p.ra, n * d, -1.0);
@@ -997,7 +1079,10 @@ fn clamp(x: f64, lo: f64, hi: f64) -> f64 {
 }
 
 /// Stage 4: points that closed faster than the threshold and were pushed get the normal
-/// velocity `-e` times their closing one.
+/// velocity `-e` times their closing one: the speed at impact, taken at the substep where the
+/// point closed. (Taken at the step's start until 2026-12-06, it missed up to `g h` of a
+/// fall: contacts are found a step ahead, at the poses of free flight, and a ball dropped 2
+/// units at `h = 0.01` rebounded 2.4-4.5% below `e^2 h`.)
 fn restitution(constraints: &mut [Constraint], s: &mut State, soft: &SoftSettings) {
     for c in constraints.iter_mut() {
         if c.restitution == 0.0 {
@@ -1180,8 +1265,22 @@ fn forces(bodies: &[Body], hs: f64, work: &mut SoftWorkspace) {
     let mut previous = std::mem::take(&mut work.forces);
     previous.retain(|f| asleep(f.a) && asleep(f.b) && f.b < bodies.len());
     work.forces = previous;
+    let start = &work.start;
+    // How far the point at offset `r` of grain `i` moved over the step.
+    let moved = |i: usize, r: Vec2| {
+        if i == STATIC {
+            Vec2::ZERO
+        } else {
+            let b = &bodies[i];
+            b.center - start[i].0 + Rotation::new(b.angle - start[i].1).apply(r) - r
+        }
+    };
     for c in &work.constraints {
         let points = &c.points[..c.len];
+        let overlap = points.iter().fold(f64::NEG_INFINITY, |deepest, p| {
+            let sep = p.base + c.normal.dot(moved(c.b, p.rb) - moved(c.a, p.ra));
+            deepest.max(-sep)
+        });
         let normal: f64 = points.iter().map(|p| p.normal_impulse).sum();
         let tangent: f64 = points.iter().map(|p| p.tangent_impulse).sum();
         let at = |p: &Point| bodies[c.b].center + p.rb;
@@ -1200,6 +1299,7 @@ fn forces(bodies: &[Body], hs: f64, work: &mut SoftWorkspace) {
             normal: c.normal,
             normal_force: normal / hs,
             tangent_force: tangent / hs,
+            overlap,
         });
     }
 }

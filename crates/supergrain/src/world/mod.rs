@@ -417,6 +417,47 @@ impl World {
         }
     }
 
+    /// How deep the grains overlap, over the contacts that touch: the soft model's as its
+    /// solver left them at the end of the last step (a contact's deepest point; sleepers'
+    /// contacts as they fell asleep), the paper model's by the narrow phase's penetration
+    /// vectors ([`World::contacts`]). `None` when nothing touches.
+    pub fn overlaps(&self) -> Option<Overlaps> {
+        // A grain's size here: its thickness, twice its smallest semi-axis.
+        let size = |i: usize| 2.0 * self.bodies[i].shape.min_semi_axis();
+        let mut all: Vec<(f64, f64)> = Vec::new();
+        match self.settings.model {
+            Model::Soft => {
+                for f in &self.soft.forces {
+                    if f.overlap > 0.0 && f.b < self.bodies.len() {
+                        let thinner = if f.a == soft::STATIC {
+                            size(f.b)
+                        } else {
+                            size(f.a).min(size(f.b))
+                        };
+                        all.push((f.overlap, thinner));
+                    }
+                }
+            }
+            Model::Paper => self.contacts(|t| {
+                all.push(match t {
+                    Touch::Grains(i, j, p) => (p.depth(), size(i).min(size(j))),
+                    Touch::Wall(i, p) => (p.push.norm(), size(i)),
+                })
+            }),
+        }
+        if all.is_empty() {
+            return None;
+        }
+        let n = all.len() as f64;
+        Some(Overlaps {
+            contacts: all.len(),
+            mean: all.iter().map(|o| o.0).sum::<f64>() / n,
+            max: all.iter().map(|o| o.0).fold(0.0, f64::max),
+            mean_relative: all.iter().map(|o| o.0 / o.1).sum::<f64>() / n,
+            max_relative: all.iter().map(|o| o.0 / o.1).fold(0.0, f64::max),
+        })
+    }
+
     /// The longest penetration vector among all overlapping pairs and grain-wall contacts.
     pub fn deepest_penetration(&self) -> f64 {
         let mut deepest = 0.0f64;
@@ -428,6 +469,18 @@ impl World {
         });
         deepest
     }
+}
+
+/// How deep the contacts of a state overlap ([`World::overlaps`]): in units, and relative to
+/// the thinner grain of each contact (its thickness, twice its smallest semi-axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Overlaps {
+    /// The contacts that overlap.
+    pub contacts: usize,
+    pub mean: f64,
+    pub max: f64,
+    pub mean_relative: f64,
+    pub max_relative: f64,
 }
 
 /// The speed of a grain fallen `height` from rest: `sqrt(2 g height)` for the soft model

@@ -131,6 +131,7 @@ struct PointLanes {
     normal_impulse: W,
     tangent_impulse: W,
     max_normal_impulse: W,
+    closing: W,
 }
 
 /// [`LANES`] contacts of one colour.
@@ -215,6 +216,7 @@ impl Batch {
             q.normal_impulse.0[l] = p.normal_impulse;
             q.tangent_impulse.0[l] = p.tangent_impulse;
             q.max_normal_impulse.0[l] = p.max_normal_impulse;
+            q.closing.0[l] = p.closing;
         }
     }
 }
@@ -234,6 +236,7 @@ impl PointLanes {
             &mut self.normal_impulse,
             &mut self.tangent_impulse,
             &mut self.max_normal_impulse,
+            &mut self.closing,
         ] {
             w.0[l] = 0.0;
         }
@@ -338,6 +341,7 @@ impl Batches {
                     p.normal_impulse = q.normal_impulse.0[l];
                     p.tangent_impulse = q.tangent_impulse.0[l];
                     p.max_normal_impulse = q.max_normal_impulse.0[l];
+                    p.closing = q.closing.0[l];
                 }
             }
         }
@@ -496,6 +500,9 @@ fn solve_batch(bt: &mut Batch, solids: &mut [Solid], hs: f64, soft: &SoftSetting
         let raw = -p.normal_mass * mass_scale * (vn + push) - impulse_scale * old;
         let next = (old + raw).max(zero);
         let d = next - old;
+        if bias {
+            p.closing = apart.select(vn, p.closing);
+        }
         p.normal_impulse = next;
         p.max_normal_impulse = p.max_normal_impulse.max(next);
         g.apply(p, nx * d, ny * d);
@@ -583,6 +590,7 @@ mod tests {
                     p.tangent_mass = f(0.1, 1.0);
                     p.normal_impulse = f(0.0, 0.05);
                     p.tangent_impulse = f(-0.01, 0.01);
+                    p.closing = f(-3.0, 1.0);
                     p.id = k as u8;
                 }
                 Constraint {
@@ -606,8 +614,8 @@ mod tests {
     }
 
     /// The batches give, bit for bit, what the one-contact code gives solving the contacts in
-    /// the batches' order: velocities and every impulse, through warm starts and passes with
-    /// and without the push-out, the overflow included.
+    /// the batches' order: velocities, every impulse and the speeds at impact, through warm
+    /// starts and passes with and without the push-out, the overflow included.
     #[test]
     fn batches_solve_as_the_contacts_one_by_one_in_their_order() {
         let soft = SoftSettings::default();
@@ -669,12 +677,14 @@ mod tests {
                         (
                             p.normal_impulse.to_bits(),
                             p.tangent_impulse.to_bits(),
-                            p.max_normal_impulse.to_bits()
+                            p.max_normal_impulse.to_bits(),
+                            p.closing.to_bits()
                         ),
                         (
                             q.normal_impulse.to_bits(),
                             q.tangent_impulse.to_bits(),
-                            q.max_normal_impulse.to_bits()
+                            q.max_normal_impulse.to_bits(),
+                            q.closing.to_bits()
                         ),
                         "seed {seed}"
                     );
