@@ -1031,7 +1031,9 @@ fn solve_one(c: &mut Constraint, s: &mut State, hs: f64, soft: &SoftSettings, bi
         let next = max(p.normal_impulse + raw, 0.0);
         let d = next - p.normal_impulse;
         let q = &mut c.points[k];
-        if bias && sep > 0.0 {
+        // Closing in from apart, not yet pushed this step: the speed at impact so far (once
+        // pushed, a separation rounded a hair above 0 must not read the resting speed).
+        if bias && sep > 0.0 && p.max_normal_impulse == 0.0 {
             q.closing = vn;
         }
         q.normal_impulse = next;

@@ -501,7 +501,8 @@ fn solve_batch(bt: &mut Batch, solids: &mut [Solid], hs: f64, soft: &SoftSetting
         let next = (old + raw).max(zero);
         let d = next - old;
         if bias {
-            p.closing = apart.select(vn, p.closing);
+            let pushed = p.max_normal_impulse.gt(zero);
+            p.closing = apart.select(pushed.select(p.closing, vn), p.closing);
         }
         p.normal_impulse = next;
         p.max_normal_impulse = p.max_normal_impulse.max(next);
