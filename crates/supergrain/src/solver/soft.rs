@@ -142,7 +142,12 @@ pub struct SoftSettings {
     /// Substeps per step.
     pub substeps: u32,
     /// The contacts' stiffness, as a frequency (Hz); at most a quarter of the substep rate is
-    /// used. Against walls, twice this.
+    /// used. Against walls, twice this. 60 since 2026-12-06 (Box2D's 30 at its 60 steps a
+    /// second is half its step rate; ours, at 100 steps a second, was 30 until then): with
+    /// the slop gone, the bidisperse heap of docs/physics.md ("Overlap") rests with a mean
+    /// overlap of 0.27% of its thinner grains' thickness (0.99% at 30 Hz), and its
+    /// frictionless twin rests (at 30 Hz it crept on). A scene can ask for an overlap instead
+    /// ([`SoftSettings::for_max_overlap`]).
     pub contact_hertz: f64,
     /// The contacts' damping ratio (above 1: overdamped, no bounce from the push-out).
     pub damping_ratio: f64,
@@ -169,7 +174,7 @@ impl Default for SoftSettings {
     fn default() -> Self {
         SoftSettings {
             substeps: 4,
-            contact_hertz: 30.0,
+            contact_hertz: 60.0,
             damping_ratio: 10.0,
             push_out: 3.0,
             restitution_threshold: 1.0,
@@ -178,6 +183,69 @@ impl Default for SoftSettings {
             angular_damping: 0.0,
             carry_reach: 5e-4,
         }
+    }
+}
+
+/// Force chains carry up to about three times a heap's mean contact force (the exponential
+/// tail of the force distribution; Radjai, Jean, Moreau & Roux, PRL 77, 274, 1996), and the
+/// deepest overlap of the bidisperse heap of docs/physics.md came out 2.5 times the hydrostatic
+/// estimate's: [`SoftSettings::for_max_overlap`] takes the load three times that estimate.
+pub const FORCE_CHAIN_FACTOR: f64 = 3.0;
+
+/// The most substeps a step may have.
+pub const MAX_SUBSTEPS: u32 = 64;
+
+/// What the weight of a heap asks of its contacts, for [`SoftSettings::for_max_overlap`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Load {
+    /// The mass of all the grains, and the width they are spread over.
+    pub mass: f64,
+    pub width: f64,
+    /// The thinnest grain's thickness (twice its smallest semi-axis) and mass.
+    pub thickness: f64,
+    pub thin_mass: f64,
+    pub gravity: f64,
+}
+
+impl SoftSettings {
+    /// The contact stiffness (and, when a quarter of the substep rate is below it, the
+    /// substeps) at which the deepest contact of a heap keeps an overlap of `max_overlap` times
+    /// the thinnest grain's thickness `d`, by a hydrostatic estimate: every grain's weight
+    /// spread over the width, `p = M g / W`, a contact at the floor carries `p d`, and
+    /// [`FORCE_CHAIN_FACTOR`] times that in a force chain; the thinnest grains' contact, of
+    /// effective mass `m_d / 2`, gives way by `F / (m_d / 2 omega^2)`. So
+    /// `omega^2 = 2 FORCE_CHAIN_FACTOR M g / (W m_d max_overlap)`. The substeps become at least
+    /// `4 hertz h` (the stiffness used is at most a quarter of the substep rate); the contacts
+    /// are still found once a step, so the narrow phase costs the same and the solve grows
+    /// with the substeps. `Err` with the substeps it would take when more than
+    /// [`MAX_SUBSTEPS`].
+    pub fn for_max_overlap(
+        self,
+        max_overlap: f64,
+        load: &Load,
+        step: f64,
+    ) -> Result<SoftSettings, String> {
+        let omega2 = 2.0 * FORCE_CHAIN_FACTOR * load.mass * load.gravity
+            / (load.width * load.thin_mass * max_overlap);
+        let hertz = omega2.sqrt() / std::f64::consts::TAU;
+        if !(hertz.is_finite() && hertz > 0.0) {
+            return Err(format!(
+                "max_overlap = {max_overlap:e} gives no contact stiffness (nothing to carry?)"
+            ));
+        }
+        let needed = (4.0 * hertz * step).ceil();
+        if needed > f64::from(MAX_SUBSTEPS) {
+            return Err(format!(
+                "max_overlap = {max_overlap:e} needs contacts of {hertz:.0} Hz, {needed} substeps \
+                 at step = {step:e} (at most {MAX_SUBSTEPS}): ask for a larger overlap or a \
+                 shorter step"
+            ));
+        }
+        Ok(SoftSettings {
+            contact_hertz: hertz,
+            substeps: self.substeps.max(needed as u32),
+            ..self
+        })
     }
 }
 

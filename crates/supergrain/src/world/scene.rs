@@ -387,6 +387,11 @@ impl Scene {
                 material: material(g.density, g.friction, g.restitution, g.rolling_resistance),
             });
         }
+        if let Some(f) = &s.max_overlap {
+            let width = b.right.get_ref().0 - b.left.get_ref().0;
+            settings.soft = stiffness_for(f, &s, &settings, &groups, width)
+                .map_err(|(span, message)| invalid(span, message))?;
+        }
         let spawn_count = match file.spawn.as_ref().and_then(|s| s.count.as_ref()) {
             None => 1,
             Some(c) if *c.get_ref() == 0 => {
@@ -583,6 +588,66 @@ struct SpawnSpec {
     rule: Option<toml::Spanned<String>>,
 }
 
+/// The soft settings a scene's `max_overlap` asks for ([`SoftSettings::for_max_overlap`]): the
+/// load of every grain of the groups (each group's count at the mean of its smallest and
+/// largest grains' masses) over the box's `width`, on its thinnest grains.
+fn stiffness_for(
+    f: &toml::Spanned<f64>,
+    s: &SolverSpec,
+    settings: &Settings,
+    groups: &[Group],
+    width: f64,
+) -> Result<SoftSettings, (std::ops::Range<usize>, String)> {
+    let v = *f.get_ref();
+    if settings.model != Model::Soft {
+        return Err((
+            f.span(),
+            "solver: max_overlap needs model = \"soft\" (the paper's projection has no contact \
+             stiffness)"
+                .into(),
+        ));
+    }
+    if s.contact_hertz.is_some() {
+        return Err((
+            f.span(),
+            "solver: give max_overlap or contact_hertz, not both (max_overlap sets the contact \
+             stiffness)"
+                .into(),
+        ));
+    }
+    if !(v > 0.0 && v < 1.0) {
+        return Err((
+            f.span(),
+            format!("solver: max_overlap is a fraction of a grain's thickness, in (0, 1), got {v:e}"),
+        ));
+    }
+    let mut load = crate::solver::soft::Load {
+        mass: 0.0,
+        width,
+        thickness: f64::INFINITY,
+        thin_mass: 0.0,
+        gravity: settings.gravity,
+    };
+    for g in groups {
+        // (Invalid shapes are refused by `validate`, after this: skip them here.)
+        let Ok((small, large)) = g.extreme_shapes() else {
+            continue;
+        };
+        let (m_small, _) = g.material.mass_and_inertia(&small);
+        let (m_large, _) = g.material.mass_and_inertia(&large);
+        load.mass += f64::from(g.count) * 0.5 * (m_small + m_large);
+        let thickness = 2.0 * small.min_semi_axis();
+        if thickness < load.thickness {
+            load.thickness = thickness;
+            load.thin_mass = m_small;
+        }
+    }
+    settings
+        .soft
+        .for_max_overlap(v, &load, settings.step)
+        .map_err(|e| (f.span(), format!("solver: {e}")))
+}
+
 #[derive(Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 struct SolverSpec {
@@ -604,6 +669,7 @@ struct SolverSpec {
     model: Option<ModelSpec>,
     substeps: Option<toml::Spanned<u32>>,
     contact_hertz: Option<Positive>,
+    max_overlap: Option<toml::Spanned<f64>>,
     damping_ratio: Option<NonNegative>,
     push_out: Option<Positive>,
     restitution_threshold: Option<NonNegative>,
