@@ -120,7 +120,7 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
         if args.csv {
             return print_csv(&cases);
         }
-        println!(
+        outln!(
             "{}",
             serde_json::json!({ "cases": cases, "peak_rss_kib": peak })
         );
@@ -137,7 +137,7 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
             })
             .map_or(f64::NAN, |b| c.us_per_grain_step / b.us_per_grain_step)
     };
-    println!(
+    outln!(
         "{:>8} {:<10} {:>7} {:>7} {:>12} {:>16} {:>14} {:>10}",
         "grains",
         "broad",
@@ -149,7 +149,7 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
         "x smallest"
     );
     for c in &cases {
-        println!(
+        outln!(
             "{:>8} {:<10} {:>7} {:>7} {:>12.1} {:>16.2} {:>14.0} {:>10.2}",
             c.grains,
             c.broad_phase,
@@ -163,7 +163,7 @@ fn scaling(args: ScalingArgs) -> Result<ExitCode> {
     }
     if let Some(kib) = peak {
         let grains = cases.iter().map(|c| c.grains).max().unwrap_or(1);
-        println!(
+        outln!(
             "peak memory {:.1} MiB, {:.0} bytes per grain of the largest scene",
             kib as f64 / 1024.0,
             kib as f64 * 1024.0 / grains as f64
@@ -204,22 +204,22 @@ fn render(args: RenderArgs) -> Result<ExitCode> {
         if args.csv {
             return print_csv(&cases);
         }
-        println!(
+        outln!(
             "{}",
             serde_json::json!({ "grains": world.bodies.len(), "width": args.width, "cases": cases })
         );
         return Ok(ExitCode::SUCCESS);
     }
     let floor = cases.last().map_or(f64::NAN, |c| c.ms);
-    println!(
+    outln!(
         "{} grains, {} px wide, median of {} frames",
         world.bodies.len(),
         args.width,
         args.reps
     );
-    println!("{:<36} {:>10} {:>12}", "renderer", "ms/frame", "x polygons");
+    outln!("{:<36} {:>10} {:>12}", "renderer", "ms/frame", "x polygons");
     for c in &cases {
-        println!("{:<36} {:>10.2} {:>12.2}", c.name, c.ms, c.ms / floor);
+        outln!("{:<36} {:>10.2} {:>12.2}", c.name, c.ms, c.ms / floor);
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -246,8 +246,8 @@ pub struct PresetArgs {
 
 #[derive(Parser)]
 pub struct ContactArgs {
-    /// Pairs per shape class (at least 1).
-    #[arg(long, default_value_t = 1000, value_parser = at_least_one)]
+    /// Pairs per shape class (1 to 1,000,000).
+    #[arg(long, default_value_t = 1000, value_parser = pair_count)]
     pairs: usize,
     /// Timed passes over the pairs; the median is reported (at least 1).
     #[arg(long, default_value_t = 15, value_parser = at_least_one)]
@@ -292,16 +292,22 @@ fn presets(args: PresetArgs) -> Result<ExitCode> {
         if args.csv {
             return print_csv(&cases);
         }
-        println!("{}", serde_json::json!({ "cases": cases }));
+        outln!("{}", serde_json::json!({ "cases": cases }));
         return Ok(ExitCode::SUCCESS);
     }
     let floor = cases.last().map_or(f64::NAN, |c| c.seconds);
-    println!(
+    outln!(
         "{:<28} {:>7} {:>7} {:>10} {:>10} {:>14} {:>10}",
-        "scene", "grains", "steps", "seconds", "steps/s", "contacts/step", "x analytic"
+        "scene",
+        "grains",
+        "steps",
+        "seconds",
+        "steps/s",
+        "contacts/step",
+        "x analytic"
     );
     for c in &cases {
-        println!(
+        outln!(
             "{:<28} {:>7} {:>7} {:>10.2} {:>10.1} {:>14.1} {:>10.1}",
             c.name,
             c.grains,
@@ -334,15 +340,20 @@ fn contact(args: ContactArgs) -> Result<ExitCode> {
         if args.csv {
             return print_csv(&cases);
         }
-        println!("{}", serde_json::json!({ "cases": cases }));
+        outln!("{}", serde_json::json!({ "cases": cases }));
     } else {
         let floor = cases.last().map_or(f64::NAN, |c| c.ns_per_pair);
-        println!(
+        outln!(
             "{:<38} {:>12} {:>9} {:>8} {:>10} {:>10}",
-            "case", "ns/pair", "x floor", "pairs", "overlap", "cells"
+            "case",
+            "ns/pair",
+            "x floor",
+            "pairs",
+            "overlap",
+            "cells"
         );
         for c in &cases {
-            println!(
+            outln!(
                 "{:<38} {:>12.1} {:>9.1} {:>8} {:>9.0}% {:>10.1}",
                 c.name,
                 c.ns_per_pair,
@@ -352,7 +363,7 @@ fn contact(args: ContactArgs) -> Result<ExitCode> {
                 c.cells_per_pair
             );
         }
-        println!(
+        outln!(
             "(median of {} timed passes after one untimed pass)",
             args.reps
         );
@@ -389,5 +400,21 @@ fn at_least_one(s: &str) -> Result<usize, String> {
     match s.parse::<usize>() {
         Ok(n) if n >= 1 => Ok(n),
         _ => Err(format!("expected a whole number >= 1, got {s}")),
+    }
+}
+
+/// The most pairs per class `bench contact` holds: a million take some 250 MB, and a pass
+/// over them by the quadtree alone a minute or more.
+const MAX_PAIRS: usize = 1_000_000;
+
+/// A pair count for `bench contact`: at least 1, at most [`MAX_PAIRS`] (4,000,000,000 asked for
+/// more memory than there is, and panicked).
+fn pair_count(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if (1..=MAX_PAIRS).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "expected a whole number from 1 to {MAX_PAIRS} (a million pairs a class take some \
+             250 MB, and a pass over them by the quadtree a minute or more), got {s}"
+        )),
     }
 }

@@ -6,9 +6,9 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 use clap::Parser;
-use supergrain::contact::{contact, contact_quadtree, overlap_regions, unresolved};
+use supergrain::contact::{Contact, contact, contact_quadtree, overlap_regions, unresolved};
 use supergrain::io::{ContactAnswer, ContactQuery, ShapeJson};
-use supergrain::render::contact_svg;
+use supergrain::render::{answer_svg, contact_svg};
 use supergrain::subdivision::{MAX_DEPTH, Precision};
 
 use crate::output::{Plans, Target};
@@ -105,10 +105,21 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 .with_context(|| format!("cannot read batch file {}", path.display()))?;
             Box::new(std::io::BufReader::new(f))
         };
-        for (i, line) in input.lines().enumerate() {
+        // Lines are read as bytes, so that one not in UTF-8 is answered with an error like any
+        // other bad line, and the lines after it still are.
+        for (i, line) in input.split(b'\n').enumerate() {
             let line = line.with_context(|| format!("cannot read line {} of the batch", i + 1))?;
-            match answer_line(&line, &defaults, args.quadtree) {
-                Ok(answer) => serde_json::to_writer(&mut out, &answer)?,
+            let line = line.strip_suffix(b"\r").unwrap_or(&line);
+            let answered = match std::str::from_utf8(line) {
+                Ok(line) => answer_line(line, &defaults, args.quadtree),
+                Err(e) => Err(format!(
+                    "not UTF-8 text (byte {} is 0x{:02X})",
+                    e.valid_up_to() + 1,
+                    line[e.valid_up_to()]
+                )),
+            };
+            match answered {
+                Ok((answer, _)) => serde_json::to_writer(&mut out, &answer)?,
                 Err(msg) => {
                     failed += 1;
                     eprintln!("error: line {}: {msg}", i + 1);
@@ -130,10 +141,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
             depth: None,
             eps: None,
         };
-        let answer = answer(&query, &defaults, args.quadtree).map_err(anyhow::Error::msg)?;
+        let (answer, found) =
+            answer(&query, &defaults, args.quadtree).map_err(anyhow::Error::msg)?;
         if let Some(svg_out) = svg.as_mut() {
             let ((a, pa), (b, pb), precision) = query.resolve(&defaults)?;
-            let (picture, _) = contact_svg(&a, &pa, &b, &pb, &precision, 640);
+            // The picture shows what answered: the quadtree's cells when it did, else the
+            // certified path's points alone (it classifies no cell).
+            let picture = if args.quadtree || found.cells > 0 {
+                contact_svg(&a, &pa, &b, &pb, &precision, 640).0
+            } else {
+                answer_svg(&a, &pa, &b, &pb, &found, 640)
+            };
             svg_out.write_all(picture.as_bytes())?;
         }
         serde_json::to_writer(&mut out, &answer)?;
@@ -150,7 +168,11 @@ pub fn run(args: Args) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn answer_line(line: &str, defaults: &Precision, quadtree: bool) -> Result<ContactAnswer, String> {
+fn answer_line(
+    line: &str,
+    defaults: &Precision,
+    quadtree: bool,
+) -> Result<(ContactAnswer, Contact), String> {
     if line.trim().is_empty() {
         return Err("empty line, expected {\"a\": SHAPE, \"b\": SHAPE}".into());
     }
@@ -163,11 +185,19 @@ fn answer(
     query: &ContactQuery,
     defaults: &Precision,
     quadtree: bool,
-) -> Result<ContactAnswer, String> {
+) -> Result<(ContactAnswer, Contact), String> {
     let ((a, pa), (b, pb), precision) = query.resolve(defaults).map_err(|e| e.to_string())?;
     if let Some((cell, resolution)) = unresolved(&a, &pa, &b, &pb, &precision) {
         // (Rounded up in the message, so that the value shown is enough.)
         let enough = resolution * 1.1;
+        if !enough.is_finite() {
+            return Err(
+                "the pair lies beyond what double precision resolves (its coordinates and \
+                 sizes add up to more than the largest number): place the grains nearer the \
+                 origin"
+                    .into(),
+            );
+        }
         return Err(format!(
             "the pair's final cell ({cell:.2e}) is finer than double precision resolves at \
              its coordinates and sizes (about {resolution:.2e}), so its answer could not be \
@@ -178,5 +208,5 @@ fn answer(
     let method = if quadtree { contact_quadtree } else { contact };
     let found = method(&a, &pa, &b, &pb, &precision);
     let regions = overlap_regions(&a, &pa, &b, &pb, &precision, found.penetration.as_ref());
-    Ok(ContactAnswer::from(&found).with_regions(&regions))
+    Ok((ContactAnswer::from(&found).with_regions(&regions), found))
 }

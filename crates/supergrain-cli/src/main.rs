@@ -1,6 +1,27 @@
 //! The `supergrain` command: a thin layer over the library. It parses, reports errors with
 //! context, and writes output atomically; the physics lives in the library.
 
+/// `println!` that returns its error instead of panicking (standard output closed by a reader
+/// that has read enough, `supergrain bench contact --csv | head -4`): the command then ends
+/// quietly ([`is_broken_pipe`]).
+macro_rules! outln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($arg)*)
+            .map_err(|e| anyhow::Error::new(e).context("cannot write to standard output"))?
+    }};
+}
+
+/// `print!`, as [`outln!`] (used by `bench peers`, built with the `peers` feature).
+#[cfg_attr(not(feature = "peers"), allow(unused_macros))]
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($arg)*)
+            .map_err(|e| anyhow::Error::new(e).context("cannot write to standard output"))?
+    }};
+}
+
 mod bench;
 mod contact;
 mod figures;
@@ -25,9 +46,9 @@ use clap::{Parser, Subcommand};
         overlap is reported only when a point is proven inside both shapes."
 )]
 struct Cli {
-    /// Threads for the simulation (default: every core, or RAYON_NUM_THREADS). Results are the
-    /// same bit for bit whatever the number: a wide box is cut into strips, and strips far
-    /// enough apart are projected at once.
+    /// Threads for stepping a simulation: `run`, `view` and `bench` (default: every core, or
+    /// RAYON_NUM_THREADS); `contact`, `render` and `figures` work on one thread whatever the
+    /// number. A run's results are the same bit for bit on any number of threads.
     #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..))]
     threads: Option<u16>,
     #[command(subcommand)]
@@ -72,9 +93,38 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(code) => code,
+        // The reader of standard output has gone (`| head`): what it read is whole, and the
+        // shell's pipeline carries on. Quietly, as `cat` ends by SIGPIPE, with exit code 0.
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Whether `e` comes from writing to a pipe whose reader has gone.
+pub(crate) fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    use std::io::ErrorKind::BrokenPipe;
+    e.chain().any(|cause| {
+        cause
+            .downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == BrokenPipe)
+            || cause
+                .downcast_ref::<serde_json::Error>()
+                .is_some_and(|j| j.io_error_kind() == Some(BrokenPipe))
+            || cause.downcast_ref::<csv::Error>().is_some_and(
+                |c| matches!(c.kind(), csv::ErrorKind::Io(io) if io.kind() == BrokenPipe),
+            )
+    })
+}
+
+/// A number for a message, as the user would write it: the shortest form that reads back as
+/// the same number, in exponent form when large or small (`1e308`, not 309 digits).
+pub(crate) fn number(x: f64) -> String {
+    if x != 0.0 && x.is_finite() && !(1e-4..1e9).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
     }
 }

@@ -226,7 +226,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             return crate::bench::print_csv(&rows);
         }
         let o = &options;
-        println!(
+        outln!(
             "{}",
             serde_json::json!({
                 "cases": rows,
@@ -236,7 +236,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
         );
         return Ok(ExitCode::SUCCESS);
     }
-    println!(
+    outln!(
         "{:<10} {:<8} {:<11} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8}",
         "scene",
         "shapes",
@@ -260,7 +260,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                 Some(if p.at_rest { "yes" } else { "no" }.to_string()),
             ),
         };
-        println!(
+        outln!(
             "{:<10} {:<8} {:<11} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8}",
             c.scene.name(),
             c.shapes.name(),
@@ -276,14 +276,16 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
     }
     let o = &options;
     if o.scenes.contains(&SceneKind::Heap) {
-        println!(
+        outln!(
             "heap: {} untimed steps, then the median of {} repetitions of {} steps, every grain \
              awake",
-            o.warmup, o.reps, o.steps
+            o.warmup,
+            o.reps,
+            o.steps
         );
     }
     if o.scenes.iter().any(|&s| s != SceneKind::Heap) {
-        println!(
+        outln!(
             "pours: wall time until every grain is in and none faster than {} for {} steps (at \
              most {} steps){}",
             o.rest.speed,
@@ -312,7 +314,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                     )
                 })
                 .collect();
-            println!("  {c}: {}", runs.join("; "));
+            outln!("  {c}: {}", runs.join("; "));
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -392,7 +394,7 @@ fn repose(
                 })
             })
             .collect();
-        println!(
+        outln!(
             "{}",
             serde_json::json!({
                 "runs": rows,
@@ -407,13 +409,13 @@ fn repose(
         );
         return Ok(ExitCode::SUCCESS);
     }
-    print!("{:>6}", "mu");
+    out!("{:>6}", "mu");
     for e in &options.engines {
-        print!(" {:>24}", e.name());
+        out!(" {:>24}", e.name());
     }
-    println!();
+    outln!();
     for &mu in &options.frictions {
-        print!("{mu:>6}");
+        out!("{mu:>6}");
         for &e in &options.engines {
             let cell = summaries
                 .iter()
@@ -422,12 +424,12 @@ fn repose(
                 .map_or("-".to_string(), |s| {
                     format!("{:.1} ({:.1}-{:.1})", s.degrees, s.min, s.max)
                 });
-            print!(" {cell:>24}");
+            out!(" {cell:>24}");
         }
-        println!();
+        outln!();
     }
     let resting = runs.iter().filter(|r| r.at_rest).count();
-    println!(
+    outln!(
         "angle of repose in degrees: the mean over {} seeds (their range), each the mean of the \
          heap's two flanks; {} disks of radius {}-{}, rolling resistance {}, on a rough floor; \
          {resting} of {} pours at rest",

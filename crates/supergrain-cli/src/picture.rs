@@ -2,12 +2,13 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use supergrain::io::write_png;
 use supergrain::render::raster::{Antialias, MAX_AA_DEPTH};
-use supergrain::render::{Colouring, Style, render_world};
+use supergrain::render::{Colouring, Style, render_world, world_region};
 use supergrain::world::World;
+use supergrain::world::checks::short;
 
 use crate::output::{Output, Target};
 
@@ -57,6 +58,63 @@ impl PictureArgs {
             contacts: self.contacts,
             ..Style::default()
         }
+    }
+}
+
+/// The longest side a picture may have, in pixels.
+const MAX_SIDE: f64 = 32_768.0;
+/// The most pixels a picture may have: 8192 x 8192, 256 MiB of RGBA.
+const MAX_PIXELS: f64 = 8192.0 * 8192.0;
+
+/// Refuses, before any work, a picture of `world` (by `style`) too large to draw: a box much
+/// taller than wide (`top = 1e6` in a box 2 wide asked for 1.2 TB and aborted the run, its
+/// dump unwritten). `flag` names the output in the message.
+pub fn check_size(world: &World, style: &Style, flag: &str) -> Result<()> {
+    let region = style.region.unwrap_or_else(|| world_region(world));
+    let aspect = region.height() / region.width();
+    let fits = |width: f64| {
+        let height = (aspect * width).round().max(1.0);
+        height <= MAX_SIDE && width * height <= MAX_PIXELS
+    };
+    let width = f64::from(style.width);
+    if fits(width) {
+        return Ok(());
+    }
+    // The widest picture within both bounds (its height rounds: step down to the one that fits).
+    let mut widest = (MAX_SIDE / aspect)
+        .min((MAX_PIXELS / aspect).sqrt())
+        .min(8192.0)
+        .floor();
+    while widest >= 16.0 && !fits(widest) {
+        widest -= 1.0;
+    }
+    let height = (aspect * width).round().max(1.0);
+    let fix = if widest >= 16.0 {
+        format!("give --width {widest} or less")
+    } else if flag == "--output" {
+        "no --width fits (16 is the least): the box's top is too high for a picture".to_string()
+    } else {
+        "no --width fits (16 is the least): lower the box's top (`top` in the scene), or draw \
+         the state with --svg"
+            .to_string()
+    };
+    bail!(
+        "{flag}: the picture would be {} x {} pixels (the region drawn, the box up to where \
+         grains appear, is {} wide and {} tall), more than {MAX_SIDE} pixels on a side or \
+         8192 x 8192 in all; {fix}",
+        style.width,
+        pixels(height),
+        short(region.width()),
+        short(region.height()),
+    )
+}
+
+/// A pixel count for a message: whole, in exponent form when huge.
+fn pixels(x: f64) -> String {
+    if x < 1e9 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.2e}")
     }
 }
 

@@ -8,7 +8,7 @@ use clap::Parser;
 use supergrain::io::Dump;
 
 use crate::output::Output;
-use crate::picture::{PictureArgs, save_png};
+use crate::picture::{PictureArgs, check_size, save_png};
 
 #[derive(Parser)]
 #[command(after_help = "\
@@ -56,6 +56,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         forces: args.forces,
         ..args.picture.style()
     };
+    check_size(&world, &style, "--output")?;
     save_png(&world, &style, out)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -20,7 +20,7 @@ use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Scene, World};
 
 use crate::output::{Folder, Output, Plans, Target};
-use crate::picture::{PictureArgs, save_frame, save_png};
+use crate::picture::{PictureArgs, check_size, save_frame, save_png};
 
 #[derive(Clone, Copy, ValueEnum)]
 enum NarrowPhaseArg {
@@ -100,26 +100,32 @@ pub struct Args {
     /// Draw the final state as a PNG (the paper's anti-aliased quadtree renderer).
     #[arg(long, value_name = "FILE.png")]
     png: Option<PathBuf>,
-    /// Write an animated GIF, a frame every --every steps.
+    /// Write an animated GIF, a frame every --gif-every steps.
     #[arg(long, value_name = "FILE.gif")]
     gif: Option<PathBuf>,
-    /// Write a PNG per frame (every --every steps) into DIR.
+    /// Write a PNG per frame (every --frames-every steps) into DIR.
     #[arg(long, value_name = "DIR")]
     frames: Option<PathBuf>,
-    /// Frames per second of the GIF.
-    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, value_parser = positive_number)]
+    /// Frames per second of the GIF, from 0.1 to 50 (a GIF's frame delay is whole hundredths
+    /// of a second, and browsers play delays under 2 hundredths slowly; a rate between two
+    /// delays is played at the nearest, and the run says so).
+    #[arg(long, default_value_t = 25.0, allow_negative_numbers = true, value_parser = gif_fps)]
     fps: f64,
     #[command(flatten)]
     picture: PictureArgs,
-    /// Write a CSV row per grain every --every steps (model = "soft": with its material, mass
-    /// and moment of inertia).
+    /// Write a CSV row per grain every --trajectory-every steps (model = "soft": with its
+    /// material, mass and moment of inertia).
     #[arg(long, value_name = "FILE.csv")]
     trajectory: Option<PathBuf>,
-    /// Write a CSV row per contact every --every steps: its grains (or grain and wall), point,
-    /// normal and normal and tangential force (model = "soft" only).
+    /// Write a CSV row per contact every --forces-every steps: its grains (or grain and wall),
+    /// point, normal (from the first grain to the second, or out of the wall), and normal and
+    /// tangential force (model = "soft" only; the tangent is the normal turned a quarter turn
+    /// clockwise, (n_y, -n_x); both forces act on the second grain). With --forces the summary
+    /// also gives the heap's mean stress.
     #[arg(long, value_name = "FILE.csv")]
     forces: Option<PathBuf>,
-    /// Write a VTK point file per frame (every --every steps) into DIR.
+    /// Write a VTK point file per frame (every --vtk-every steps) into DIR: each grain's
+    /// centre, with its id, group, shape, angle and velocity as point data.
     #[arg(long, value_name = "DIR")]
     vtk: Option<PathBuf>,
     /// Stop once every grain has appeared and none has moved faster than --rest-speed for 100
@@ -130,9 +136,25 @@ pub struct Args {
     /// g h / delta with the paper's settings).
     #[arg(long, default_value_t = 0.05, value_name = "SPEED", allow_negative_numbers = true, value_parser = positive_number)]
     rest_speed: f64,
-    /// Steps between frames of --trajectory, --vtk, --gif and --frames.
+    /// Steps between frames of every stream: --trajectory, --forces, --vtk, --gif and
+    /// --frames, unless its own interval is given.
     #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..))]
     every: u64,
+    /// Steps between rows of --trajectory [default: --every].
+    #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..))]
+    trajectory_every: Option<u64>,
+    /// Steps between rows of --forces [default: --every].
+    #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..))]
+    forces_every: Option<u64>,
+    /// Steps between files of --vtk [default: --every].
+    #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..))]
+    vtk_every: Option<u64>,
+    /// Steps between frames of --gif [default: --every].
+    #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..))]
+    gif_every: Option<u64>,
+    /// Steps between pictures of --frames [default: --every].
+    #[arg(long, value_name = "STEPS", value_parser = clap::value_parser!(u64).range(1..))]
+    frames_every: Option<u64>,
     /// No summary.
     #[arg(long, short)]
     quiet: bool,
@@ -155,6 +177,9 @@ impl Failures {
     fn keep(&mut self, result: Result<()>) -> bool {
         match result {
             Ok(()) => true,
+            // A stream to standard output whose reader has read enough (`| head`): it ends,
+            // quietly, and the run and the other outputs go on.
+            Err(e) if crate::is_broken_pipe(&e) => false,
             Err(e) => {
                 self.0.push(e);
                 false
@@ -198,8 +223,6 @@ pub fn run(args: Args) -> Result<ExitCode> {
         .as_deref()
         .map(|dir| plans.folder("--frames", dir))
         .transpose()?;
-    let vtk = vtk.map(Folder::make).transpose()?;
-    let frames = frames.map(Folder::make).transpose()?;
     // The streams are written as the run goes.
     let mut trajectory = trajectory_to.as_ref().map(Target::open).transpose()?;
     if let Some(t) = trajectory.as_mut() {
@@ -209,15 +232,38 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(f) = forces.as_mut() {
         writeln!(f, "{FORCES_HEADER}")?;
     }
-    let mut gif_out = gif_to.as_ref().map(Target::open).transpose()?;
-    let mut gif = match gif_out.as_mut() {
-        Some(out) => Some(GifWriter::new(out, args.fps, 10).context("cannot start the GIF")?),
-        None => None,
-    };
-    // Frames of an animation share one view: the box up to where grains appear.
+    // Frames of an animation share one view: the box up to where grains appear. A picture too
+    // large to draw is refused now, before any work (it would abort the run at its end).
     let style = Style {
         region: Some(world_region(&world)),
         ..args.picture.style()
+    };
+    for (flag, wanted) in [
+        ("--png", png.is_some()),
+        ("--gif", gif_to.is_some()),
+        ("--frames", frames.is_some()),
+    ] {
+        if wanted {
+            check_size(&world, &style, flag)?;
+        }
+    }
+    let vtk = vtk.map(Folder::make).transpose()?;
+    let frames = frames.map(Folder::make).transpose()?;
+    let mut gif_out = gif_to.as_ref().map(Target::open).transpose()?;
+    let mut gif = match gif_out.as_mut() {
+        Some(out) => {
+            let played = played_fps(args.fps);
+            if (played - args.fps).abs() > 1e-9 * args.fps && !args.quiet {
+                eprintln!(
+                    "note: --fps {} is played at {} (a GIF's frame delay is whole hundredths of \
+                     a second)",
+                    crate::number(args.fps),
+                    short(played)
+                );
+            }
+            Some(GifWriter::new(out, args.fps, 10).context("cannot start the GIF")?)
+        }
+        None => None,
     };
 
     let bar = ProgressBar::new(steps).with_style(
@@ -234,8 +280,21 @@ pub fn run(args: Args) -> Result<ExitCode> {
     // and the other outputs go on.
     let mut failures = Failures::default();
     let (mut vtk, mut frames) = (vtk, frames);
-    let mut frame = |world: &World, trajectory: &mut Option<Output>, failures: &mut Failures| {
+    // Each stream's own interval.
+    let every = Every {
+        trajectory: args.trajectory_every.unwrap_or(args.every),
+        forces: args.forces_every.unwrap_or(args.every),
+        vtk: args.vtk_every.unwrap_or(args.every),
+        gif: args.gif_every.unwrap_or(args.every),
+        frames: args.frames_every.unwrap_or(args.every),
+    };
+    // Writes the frame of each stream that `due` says is due, given its interval.
+    let mut frame = |world: &World,
+                     trajectory: &mut Option<Output>,
+                     failures: &mut Failures,
+                     due: &dyn Fn(u64) -> bool| {
         if let Some(t) = trajectory.as_mut()
+            && due(every.trajectory)
             && !failures.keep(
                 write_trajectory_frame(world, t)
                     .with_context(|| format!("--trajectory at step {}", world.step)),
@@ -244,6 +303,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             *trajectory = None;
         }
         if let Some(f) = forces.as_mut()
+            && due(every.forces)
             && !failures.keep(
                 write_forces_frame(world, f)
                     .with_context(|| format!("--forces at step {}", world.step)),
@@ -252,16 +312,19 @@ pub fn run(args: Args) -> Result<ExitCode> {
             forces = None;
         }
         if let Some(dir) = &vtk
+            && due(every.vtk)
             && !failures.keep(write_vtk(world, dir))
         {
             vtk = None;
         }
         if let Some(dir) = &frames
+            && due(every.frames)
             && !failures.keep(save_frame(world, &style, dir))
         {
             frames = None;
         }
         if let Some(g) = gif.as_mut()
+            && due(every.gif)
             && !failures.keep(
                 g.push(&render_world(world, &style))
                     .with_context(|| format!("cannot write the GIF at step {}", world.step)),
@@ -270,7 +333,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             gif = None;
         }
     };
-    frame(&world, &mut trajectory, &mut failures);
+    frame(&world, &mut trajectory, &mut failures, &|_| true);
     let stop = stop_on_interrupt();
     let mut interrupted = false;
     // The first grain to leave the box, and the step: the run goes on, and says so.
@@ -302,9 +365,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             escaped = Some((i, world.step));
         }
         contacts += stats.contacts as u64;
-        if k % args.every == 0 {
-            frame(&world, &mut trajectory, &mut failures);
-        }
+        frame(&world, &mut trajectory, &mut failures, &|n| k % n == 0);
         if let (Some(every), Some(target)) = (args.checkpoint, dump.as_ref())
             && k % every == 0
             && k < steps
@@ -345,8 +406,11 @@ pub fn run(args: Args) -> Result<ExitCode> {
             break;
         }
     }
-    if (args.until_rest || interrupted) && !done.is_multiple_of(args.every) {
-        frame(&world, &mut trajectory, &mut failures);
+    if args.until_rest || interrupted {
+        // The last state, in each stream that has not just written it.
+        frame(&world, &mut trajectory, &mut failures, &|n| {
+            !done.is_multiple_of(n)
+        });
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
@@ -366,6 +430,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
     {
         failures.keep(g.finish());
     }
+    // The dump first: it is the run's work, and a picture can still fail.
+    if let Some(to) = dump {
+        failures.keep(to.open().and_then(|out| write_dump(out, &world)));
+    }
     if let Some(to) = png {
         failures.keep(to.open().and_then(|out| save_png(&world, &style, out)));
     }
@@ -374,9 +442,6 @@ pub fn run(args: Args) -> Result<ExitCode> {
             picture.write_all(world_svg(&world, 800).as_bytes())?;
             picture.finish()
         }));
-    }
-    if let Some(to) = dump {
-        failures.keep(to.open().and_then(|out| write_dump(out, &world)));
     }
     if !args.quiet {
         eprintln!(
@@ -402,7 +467,11 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 100.0 * o.max_relative,
             );
         }
-        if let Some([[sxx, sxy], [_, syy]]) = world.stress() {
+        // The mean stress goes with the forces it sums (--forces), and only when some contact
+        // carries one.
+        if let Some([[sxx, sxy], [_, syy]]) = world.stress().filter(|_| {
+            args.forces.is_some() && world.soft.forces.iter().any(|f| f.normal_force != 0.0)
+        }) {
             eprintln!(
                 "mean stress of the heap: xx {sxx:.4e}, yy {syy:.4e}, xy {sxy:.4e} (pressure \
                  {:.4e}; compression negative)",
@@ -442,7 +511,8 @@ pub fn run(args: Args) -> Result<ExitCode> {
             if calm >= REST_STEPS {
                 eprintln!(
                     "at rest at step {}: no grain faster than {} for {REST_STEPS} steps",
-                    world.step, args.rest_speed
+                    world.step,
+                    crate::number(args.rest_speed)
                 );
             } else {
                 eprintln!(
@@ -502,15 +572,58 @@ const REST_STEPS: u64 = 100;
 fn non_negative_number(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
-        _ => Err(format!("expected a finite number >= 0, got {s}")),
+        _ => Err(format!("expected a finite number >= 0, got {}", shown(s))),
     }
 }
 
 fn positive_number(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("expected a finite number > 0, got {s}")),
+        _ => Err(format!("expected a finite number > 0, got {}", shown(s))),
     }
+}
+
+/// A value the user gave, for a message: at most 40 characters of it.
+fn shown(s: &str) -> String {
+    match s.char_indices().nth(40) {
+        Some((end, _)) => format!("{}... ({} characters)", &s[..end], s.chars().count()),
+        None => s.to_string(),
+    }
+}
+
+/// The slowest and fastest GIF rates: a frame delay of at most 10 s and at least 2 hundredths
+/// (browsers play shorter delays at 10 frames per second).
+const GIF_FPS: (f64, f64) = (0.1, 50.0);
+
+fn gif_fps(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if (GIF_FPS.0..=GIF_FPS.1).contains(&v) => Ok(v),
+        _ => Err(format!(
+            "expected frames per second from {} to {} (a GIF's frame delay is whole hundredths \
+             of a second; browsers play delays under 2 hundredths at 10 frames per second), \
+             got {}",
+            GIF_FPS.0,
+            GIF_FPS.1,
+            shown(s)
+        )),
+    }
+}
+
+/// The rate a GIF of `fps` plays at: its delay is whole hundredths of a second, the
+/// milliseconds [`GifWriter`] asks for cut to them by the encoder.
+fn played_fps(fps: f64) -> f64 {
+    let ms = (1000.0 / fps).round();
+    100.0 / (ms / 10.0).floor()
+}
+
+/// Each stream's interval, in steps.
+#[derive(Clone, Copy)]
+struct Every {
+    trajectory: u64,
+    forces: u64,
+    vtk: u64,
+    gif: u64,
+    frames: u64,
 }
 
 fn load(args: &Args) -> Result<(World, u64)> {
@@ -535,8 +648,9 @@ fn load(args: &Args) -> Result<(World, u64)> {
         if let (Some(r), Some(solver)) = (sleep_radius, dump.solver.as_mut()) {
             if r > 0.0 && solver.sleep_steps == 0 {
                 bail!(
-                    "--sleep-radius {r}: the dump's sleep_steps is 0 (grains would freeze where \
-                     they are); give --sleep-radius 0 or a dump with sleep_steps >= 1"
+                    "--sleep-radius {}: the dump's sleep_steps is 0 (grains would freeze where \
+                     they are); give --sleep-radius 0 or a dump with sleep_steps >= 1",
+                    crate::number(r)
                 );
             }
             solver.sleep_radius = r;
@@ -568,7 +682,15 @@ fn load(args: &Args) -> Result<(World, u64)> {
         (Some(path), None) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read scene {}", path.display()))?;
-            Scene::from_toml(&text).with_context(|| format!("invalid scene {}", path.display()))?
+            if text.trim_start().starts_with('{') && Dump::from_json(&text).is_ok() {
+                bail!(
+                    "{} is a dump (a state written by --dump), not a scene: use --resume {0}",
+                    path.display()
+                );
+            }
+            Scene::from_toml(&text)
+                .map_err(|e| anyhow::anyhow!(clip_lines(&e.to_string())))
+                .with_context(|| format!("invalid scene {}", path.display()))?
         }
         (None, Some(name)) => Scene::preset(name)?,
         (None, None) => bail!(
@@ -589,8 +711,9 @@ fn load(args: &Args) -> Result<(World, u64)> {
     if let Some(r) = sleep_radius {
         if r > 0.0 && scene.settings.sleep_steps == 0 {
             bail!(
-                "--sleep-radius {r}: the scene's sleep_steps is 0 (grains would freeze where they \
-                 appear); give --sleep-radius 0 or set sleep_steps >= 1 in the scene"
+                "--sleep-radius {}: the scene's sleep_steps is 0 (grains would freeze where they \
+                 appear); give --sleep-radius 0 or set sleep_steps >= 1 in the scene",
+                crate::number(r)
             );
         }
         scene.settings.sleep_radius = r;
@@ -598,6 +721,25 @@ fn load(args: &Args) -> Result<(World, u64)> {
     scene.validate()?;
     let steps = scene.steps;
     Ok((World::new(&scene), steps))
+}
+
+/// `message` with each line longer than a terminal's few lines cut short: a parser's error
+/// quotes the line it failed on, and a file of one long line (minified JSON) would fill the
+/// screen.
+fn clip_lines(message: &str) -> String {
+    const MOST: usize = 160;
+    message
+        .lines()
+        .map(|line| match line.char_indices().nth(MOST) {
+            Some((end, _)) => format!(
+                "{}... ({} characters more)",
+                &line[..end],
+                line[end..].chars().count()
+            ),
+            None => line.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 fn check_analytic(world: &World) -> Result<()> {

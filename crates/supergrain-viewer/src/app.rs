@@ -243,6 +243,20 @@ fn add_grain(
     }
 }
 
+/// A closed outline through `points` (a boundary polygon, its first point on the x axis) that
+/// stays near the shape: drawn as an open line that begins and ends mid-side, an eighth of the
+/// way round, since egui joins the corners of a closed line by miters alone, and a star's
+/// sharp tip then drew a spike many times the star's size, out of its own bounding box; an
+/// open line's corners sharper than a right angle are cut off.
+fn outline(mut points: Vec<Pos2>, stroke: Stroke) -> Shape {
+    let eighth = points.len() / 8;
+    points.rotate_left(eighth);
+    if let Some(&first) = points.first() {
+        points.push(first);
+    }
+    Shape::line(points, stroke)
+}
+
 fn paint_box(painter: &egui::Painter, cam: Camera, rect: Rect, b: &Aabb, stroke: Stroke) {
     let r = Rect::from_two_pos(cam.to_screen(rect, b.min), cam.to_screen(rect, b.max));
     painter.rect_stroke(r, 0.0, stroke, egui::StrokeKind::Middle);
@@ -729,15 +743,12 @@ impl App {
         }
         painter.add(Shape::mesh(mesh));
         for ((shape, pose), tint) in eval.shapes.iter().zip(tints) {
-            let outline: Vec<Pos2> = shape
+            let points: Vec<Pos2> = shape
                 .boundary_polygon(pose, 256)
                 .into_iter()
                 .map(|p| cam.to_screen(rect, p))
                 .collect();
-            painter.add(Shape::closed_line(
-                outline,
-                Stroke::new(1.5, darker(tint.to_opaque())),
-            ));
+            painter.add(outline(points, Stroke::new(1.5, darker(tint.to_opaque()))));
         }
         for c in &eval.cells {
             paint_cell(&painter, cam, rect, c);
@@ -976,6 +987,59 @@ impl eframe::App for App {
             ctx.request_repaint_after(until_next_tick());
             #[cfg(target_arch = "wasm32")]
             ctx.request_repaint();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use eframe::egui::epaint::{Mesh, TessellationOptions, Tessellator};
+    use eframe::egui::{Color32, Pos2, Stroke};
+    use supergrain::geometry::Vec2;
+    use supergrain::shape::{Pose, Superellipse};
+
+    use super::outline;
+
+    /// The explorer's outline of a star stays within the star's bounding box, grown by the
+    /// line's width: drawn as a closed line, its tips were miter spikes reaching far out.
+    #[test]
+    fn a_stars_outline_stays_in_its_bounding_box() {
+        for exponent in [0.3, 0.5, 0.7] {
+            let star = Superellipse::new([1.0, 0.6], [exponent, exponent]).expect("a star");
+            let pose = Pose::new(Vec2::new(0.3, -0.2), 0.4).expect("a pose");
+            // 100 pixels a unit, y down, as the explorer's camera.
+            let to_screen = |p: Vec2| Pos2::new((100.0 * p.x) as f32, (-100.0 * p.y) as f32);
+            let points: Vec<Pos2> = star
+                .boundary_polygon(&pose, 256)
+                .into_iter()
+                .map(to_screen)
+                .collect();
+            let width = 1.5;
+            let options = TessellationOptions {
+                feathering: false,
+                ..TessellationOptions::default()
+            };
+            let mut tessellator = Tessellator::new(1.0, options, [1, 1], Vec::new());
+            let mut mesh = Mesh::default();
+            tessellator.tessellate_shape(
+                outline(points, Stroke::new(width, Color32::BLACK)),
+                &mut mesh,
+            );
+            assert!(!mesh.vertices.is_empty());
+            let bb = star.bounding_box(&pose);
+            let (lo, hi) = (to_screen(bb.min), to_screen(bb.max));
+            let reach = 2.0 * width;
+            for v in &mesh.vertices {
+                let p = v.pos;
+                assert!(
+                    p.x >= lo.x - reach
+                        && p.x <= hi.x + reach
+                        && p.y <= lo.y + reach
+                        && p.y >= hi.y - reach,
+                    "exponent {exponent}: outline vertex {p:?} outside the star's box \
+                     ({lo:?}, {hi:?}) grown by {reach} px"
+                );
+            }
         }
     }
 }

@@ -62,9 +62,10 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
     Ok(())
 }
 
-/// One frame as a legacy-format VTK point file: grain centres as points, with the semi-axes,
-/// the local x axis, exponents, superquadric roundness (2 / exponent), angle, velocity and
-/// scene group as point data, so that ParaView can glyph them (see docs/reference.md); for the soft
+/// One frame as a legacy-format VTK point file: grain centres as points, with the grain's id
+/// (its order of appearance, the trajectory's `id`, so a grain can be followed from frame to
+/// frame), the semi-axes, the local x axis, exponents, superquadric roundness (2 / exponent),
+/// angle, velocity and scene group as point data, so that ParaView can glyph them (see docs/reference.md); for the soft
 /// model also the material, mass and moment of inertia ([`MATERIAL_COLUMNS`]'s names).
 pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let n = world.bodies.len();
@@ -81,6 +82,11 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
         writeln!(out, "1 {i}")?;
     }
     writeln!(out, "POINT_DATA {n}")?;
+    writeln!(out, "SCALARS id int 1")?;
+    writeln!(out, "LOOKUP_TABLE default")?;
+    for i in 0..n {
+        writeln!(out, "{i}")?;
+    }
     // Three components: ParaView's glyph scale wants 3-vectors; z is a nominal thickness.
     writeln!(out, "VECTORS semi_axes double")?;
     for b in &world.bodies {

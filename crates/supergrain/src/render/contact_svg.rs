@@ -5,7 +5,8 @@ use crate::geometry::{Aabb, Vec2};
 use crate::shape::{Pose, Superellipse};
 use crate::subdivision::{Class, Precision};
 
-/// The collision test of two shapes as an SVG document `size` pixels wide, and its answer.
+/// The collision test of two shapes by the paper's quadtree as an SVG document `size` pixels
+/// wide, and its answer.
 ///
 /// Cells discarded (outside a shape) are outlined in grey, cells inside both are filled orange,
 /// cells on a boundary are outlined in blue (filled when at the final precision). The deepest
@@ -20,7 +21,44 @@ pub fn contact_svg(
 ) -> (String, Contact) {
     let mut cells: Vec<(Aabb, Class, Class, bool)> = Vec::new();
     let contact = contact_with_cells(a, pose_a, b, pose_b, precision, &mut cells);
+    let caption = format!(
+        "overlap: {}, {} cells, depth {}",
+        contact.overlap(),
+        contact.cells,
+        precision.depth()
+    );
+    let svg = draw([(a, pose_a), (b, pose_b)], &cells, &contact, &caption, size);
+    (svg, contact)
+}
 
+/// An answer found without the quadtree (the certified path: `contact.cells` is 0) as an SVG
+/// document `size` pixels wide: the shapes, the deepest points and the penetration vectors,
+/// and no cell, since none was classified.
+pub fn answer_svg(
+    a: &Superellipse,
+    pose_a: &Pose,
+    b: &Superellipse,
+    pose_b: &Pose,
+    contact: &Contact,
+    size: u32,
+) -> String {
+    let caption = format!(
+        "overlap: {}, {} cells (answered by the certified path, not the quadtree)",
+        contact.overlap(),
+        contact.cells
+    );
+    draw([(a, pose_a), (b, pose_b)], &[], contact, &caption, size)
+}
+
+/// Two shapes, the quadtree's `cells` (in A's frame) and `contact`'s deepest points and
+/// vectors, with `caption` at the top.
+fn draw(
+    [(a, pose_a), (b, pose_b)]: [(&Superellipse, &Pose); 2],
+    cells: &[(Aabb, Class, Class, bool)],
+    contact: &Contact,
+    caption: &str,
+    size: u32,
+) -> String {
     // The view, y up: the quadtree's region with as much around it again on every side, or
     // both shapes when no cell was visited.
     let world_cells = cells
@@ -86,7 +124,7 @@ pub fn contact_svg(
         );
     }
     // The cells are in A's local frame: place their corners in the world.
-    for (cell, ca, cb, last) in &cells {
+    for (cell, ca, cb, last) in cells {
         let corners = cell.corners().map(|p| pose_a.to_world(p));
         let style = if *ca == Class::Outside || *cb == Class::Outside {
             r##"fill="none" stroke="#9e9e9e" stroke-width="0.4""##
@@ -114,11 +152,8 @@ pub fn contact_svg(
     }
     let _ = writeln!(
         svg,
-        r##"<text x="8" y="18" font-family="sans-serif" font-size="13" fill="#333">overlap: {}, {} cells, depth {}</text>"##,
-        contact.overlap(),
-        contact.cells,
-        precision.depth()
+        r##"<text x="8" y="18" font-family="sans-serif" font-size="13" fill="#333">{caption}</text>"##
     );
     svg.push_str("</svg>\n");
-    (svg, contact)
+    svg
 }

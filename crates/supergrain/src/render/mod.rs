@@ -9,7 +9,7 @@ mod pen;
 pub mod raster;
 mod world_svg;
 
-pub use contact_svg::contact_svg;
+pub use contact_svg::{answer_svg, contact_svg};
 pub use diagram::{Show, cell_style, collision_png, wall_png};
 pub use frame::{Colouring, Style, exponent_colour, render_world, world_region};
 pub(crate) use pen::Pen;

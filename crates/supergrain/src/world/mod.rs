@@ -259,15 +259,26 @@ impl World {
     /// paper's, whose projection has no forces): `sigma = (1/A) sum over contacts of f (x) l`,
     /// `f` the force on one side, `l` the branch vector from the other side's centre to that
     /// side's (for a wall, from the contact point to the grain's centre), `A` the box's width
-    /// times the height of the highest grain's top above the floor. Compression is negative.
+    /// times the height of the heap's top above the floor: the highest top of a grain in a
+    /// contact (a grain in flight touches nothing and is not of the heap). Compression is
+    /// negative.
     pub fn stress(&self) -> Option<[[f64; 2]; 2]> {
         if self.settings.model != Model::Soft || self.bodies.is_empty() {
             return None;
         }
+        let mut touching = vec![false; self.bodies.len()];
+        for f in &self.soft.forces {
+            if f.a != soft::STATIC {
+                touching[f.a] = true;
+            }
+            touching[f.b] = true;
+        }
         let top = self
             .bodies
             .iter()
-            .map(|b| b.bounding_box().max.y)
+            .zip(&touching)
+            .filter(|&(_, &t)| t)
+            .map(|(b, _)| b.bounding_box().max.y)
             .fold(self.walls.floor, f64::max);
         let area = (self.walls.right - self.walls.left) * (top - self.walls.floor);
         let mut sigma = [[0.0; 2]; 2];

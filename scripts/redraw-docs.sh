@@ -1,0 +1,32 @@
+#!/bin/sh
+# Redraws the pictures of the README and docs/reference.md from the commands they give, so that
+# each picture is what its command produces today:
+#   docs/mixed.png          the README's picture (its quick-start command)
+#   docs/circles.png, docs/ellipses.png, docs/squircles.png, docs/mixed-contacts.png
+#   docs/mixed.gif          the presets, as docs/reference.md says they are drawn
+#   docs/pour-1000.png      the 1,000-grain pour at rest
+# Usage: scripts/redraw-docs.sh   (from anywhere; builds the release binary first; about half a
+# minute on two cores once built). CARGO_TARGET_DIR is honoured.
+set -eu
+cd "$(dirname "$0")/.."
+cargo build --release --locked -p supergrain-cli
+sg="${CARGO_TARGET_DIR:-target}/release/supergrain"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# The README's quick start, written into docs/.
+"$sg" run --preset mixed --until-rest --png docs/mixed.png --width 500 --dump "$tmp/mixed.json" --quiet
+
+# docs/reference.md, `supergrain render`: each preset to rest, drawn 500 wide.
+for name in circles ellipses squircles; do
+    "$sg" run --preset "$name" --until-rest --dump "$tmp/$name.json" --quiet
+    "$sg" render "$tmp/$name.json" -o "docs/$name.png" --width 500 --colour palette
+done
+"$sg" render "$tmp/mixed.json" -o docs/mixed-contacts.png --width 500 --boxes --contacts
+"$sg" run --preset mixed --until-rest --gif docs/mixed.gif --every 25 --width 300 --quiet
+
+# The 1,000-grain pour at rest, coloured by group.
+"$sg" run examples/scenes/pour-1000.toml --until-rest --steps 20000 --dump "$tmp/pour.json" --quiet
+"$sg" render "$tmp/pour.json" -o docs/pour-1000.png --colour group --width 900
+
+echo "redrawn: docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"
