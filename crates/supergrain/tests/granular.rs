@@ -153,7 +153,10 @@ fn bidisperse_pour(friction: f64, solver: &str) -> (Vec<Disk>, u64) {
     let mut w = World::new(&scene);
     let mut calm = 0;
     while calm < 100 {
-        assert!(w.step < 6000, "friction {friction}, {solver:?}: not at rest by step 6000");
+        assert!(
+            w.step < 6000,
+            "friction {friction}, {solver:?}: not at rest by step 6000"
+        );
         w.step();
         calm = if w.all_spawned() && w.max_speed() < 0.05 {
             calm + 1

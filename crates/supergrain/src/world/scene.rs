@@ -618,7 +618,9 @@ fn stiffness_for(
     if !(v > 0.0 && v < 1.0) {
         return Err((
             f.span(),
-            format!("solver: max_overlap is a fraction of a grain's thickness, in (0, 1), got {v:e}"),
+            format!(
+                "solver: max_overlap is a fraction of a grain's thickness, in (0, 1), got {v:e}"
+            ),
         ));
     }
     let mut load = crate::solver::soft::Load {

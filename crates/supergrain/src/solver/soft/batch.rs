@@ -150,6 +150,7 @@ struct Batch {
     friction: W,
     rolling_resistance: W,
     lever: W,
+    slop: W,
     rolling_mass: W,
     rolling_impulse: W,
     bias_rate: W,
@@ -175,6 +176,7 @@ impl Batch {
                 &mut self.friction,
                 &mut self.rolling_resistance,
                 &mut self.lever,
+                &mut self.slop,
                 &mut self.rolling_mass,
                 &mut self.rolling_impulse,
                 &mut self.bias_rate,
@@ -196,6 +198,7 @@ impl Batch {
         self.friction.0[l] = c.friction;
         self.rolling_resistance.0[l] = c.rolling_resistance;
         self.lever.0[l] = c.lever;
+        self.slop.0[l] = c.slop;
         self.rolling_mass.0[l] = c.rolling_mass;
         self.rolling_impulse.0[l] = c.rolling_impulse;
         self.bias_rate.0[l] = c.softness.bias_rate;
@@ -474,7 +477,7 @@ fn solve_batch(bt: &mut Batch, solids: &mut [Solid], hs: f64, soft: &SoftSetting
     let mut g = Gathered::new(bt, solids);
     let (nx, ny) = (bt.nx, bt.ny);
     let (zero, one) = (W::splat(0.0), W::splat(1.0));
-    let slop = W::splat(soft.slop);
+    let slop = bt.slop;
     for p in &mut bt.points[..bt.most] {
         let (max_, may) = g.a.moved(p.rax, p.ray);
         let (mbx, mby) = g.b.moved(p.rbx, p.rby);
@@ -603,6 +606,7 @@ mod tests {
                     restitution: 0.0,
                     rolling_resistance: if i % 2 == 0 { f(0.0, 0.3) } else { 0.0 },
                     lever: f(0.1, 0.3),
+                    slop: if i % 3 == 0 { 0.005 } else { 0.0 },
                     rolling_mass: f(0.01, 0.1),
                     rolling_impulse: f(-1e-3, 1e-3),
                     softness: Softness::new(30.0, 10.0, 1.0 / 240.0),
