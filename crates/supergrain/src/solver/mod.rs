@@ -239,7 +239,7 @@ impl Settings {
             model: Model::Soft,
             sleep_radius: SOFT_SLEEP_RADIUS,
             // By islands since 2026-12-06 (issue 40): a heap asleep grain by grain kept forces
-            // that did not balance (a median grain 4 weights off) and sank 2.7% of a grain's
+            // that did not balance (a median grain 4.3 weights off) and sank 2.7% of a grain's
             // size when woken; by islands, settled as they fall asleep, every grain balances
             // and a woken heap moves by 1e-4 of a size (docs/physics.md, "Heaps at rest").
             sleep_islands: true,
