@@ -385,9 +385,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
         if k % 50 == 0 || last_shown.elapsed().as_secs_f64() >= 1.0 {
             last_shown = Instant::now();
             let state = format!(
-                "{} grains, {} asleep, fastest {fastest:.3}",
+                "{} grains, {} asleep, fastest {}",
                 world.bodies.len(),
-                world.asleep()
+                world.asleep(),
+                speed(fastest)
             );
             if !log_lines {
                 bar.set_position(k);
@@ -446,7 +447,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if !args.quiet {
         eprintln!(
             "{} grains ({} still to appear), {} steps in {:.2} s: {:.1} steps/s, {:.1} contacts/step, \
-             deepest remaining penetration {:.2e}, fastest grain {:.3}",
+             deepest remaining penetration {:.2e}, fastest grain {}",
             world.bodies.len(),
             world.pending_count(),
             done,
@@ -454,7 +455,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             done as f64 / elapsed.max(1e-9),
             contacts as f64 / done.max(1) as f64,
             world.deepest_penetration(),
-            world.max_speed(),
+            speed(world.max_speed()),
         );
         // The mean stress goes with the forces it sums (--forces), and only when some contact
         // carries one.
@@ -569,6 +570,16 @@ fn positive_number(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
         _ => Err(format!("expected a finite number > 0, got {}", shown(s))),
+    }
+}
+
+/// A speed for the progress line and the summary: three decimals, in exponent form when huge (a
+/// run gone wrong).
+fn speed(x: f64) -> String {
+    if x.abs() < 1e6 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
     }
 }
 
