@@ -596,8 +596,8 @@ fn shown(s: &str) -> String {
 const GIF_FPS: (f64, f64) = (0.1, 50.0);
 
 fn gif_fps(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if (GIF_FPS.0..=GIF_FPS.1).contains(&v) => Ok(v),
+    match positive_number(s)? {
+        v if (GIF_FPS.0..=GIF_FPS.1).contains(&v) => Ok(v),
         _ => Err(format!(
             "expected frames per second from {} to {} (a GIF's frame delay is whole hundredths \
              of a second; browsers play delays under 2 hundredths at 10 frames per second), \
@@ -723,11 +723,10 @@ fn load(args: &Args) -> Result<(World, u64)> {
     Ok((World::new(&scene), steps))
 }
 
-/// `message` with each line longer than a terminal's few lines cut short: a parser's error
-/// quotes the line it failed on, and a file of one long line (minified JSON) would fill the
-/// screen.
+/// `message` with each line longer than a screenful cut short: a parser's error quotes the line
+/// it failed on, and a file of one long line (a dump, minified JSON) would fill the screen.
 fn clip_lines(message: &str) -> String {
-    const MOST: usize = 160;
+    const MOST: usize = 600;
     message
         .lines()
         .map(|line| match line.char_indices().nth(MOST) {

@@ -145,6 +145,9 @@ fn sleep_radius_zero_on_resume_gives_the_forces_at_equilibrium() {
         "5000",
         "--dump",
         p(&rested),
+        // The stress, and the note on sleepers' forces, come with the forces.
+        "--forces",
+        p(&dir.path().join("rested.csv")),
     ]));
     assert!(
         err.contains("grains asleep, grain by grain: their contacts keep the forces"),
@@ -188,7 +191,10 @@ fn sleep_radius_zero_on_resume_gives_the_forces_at_equilibrium() {
         "0.005",
         "--steps",
         "1",
+        "--forces",
+        p(&dir.path().join("again.csv")),
     ]));
+    assert!(err.contains("mean stress"), "{err}");
     assert!(!err.contains("grains asleep"), "{err}");
     // `--sleep-radius 0` turns off the sleeping of a dump whose `sleep_steps` is 0, which is
     // otherwise refused; a positive radius on it is refused naming the flag.
