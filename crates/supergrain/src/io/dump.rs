@@ -468,15 +468,19 @@ impl Dump {
 
     /// The world this dump describes, ready to go on.
     ///
-    /// Refused before any work (see [`checks`]): a non-finite number, a `step` past
-    /// [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`] of its smallest
-    /// semi-axis beyond a wall or inside another grain (under the soft model: an awake grain
-    /// beyond a wall by more than [`checks::SOFT_OUTSIDE_FRACTION`] of its bounding radius; only
-    /// sleepers, which the soft step does not move, are held to the paper's limits), a grain
-    /// still to appear that cannot fit between the walls, would appear in the floor or (drawn)
-    /// beyond a wall, a time step too long for the grains, a queue whose groups cannot be drawn
-    /// from (as a scene's). A dump from before the queue, with
-    /// every grain still to appear in `pending`, resumes with those grains and nothing more.
+    /// Refused before any work (see [`checks`]), as a scene's settings are: a non-finite number,
+    /// a `step` not below [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`]
+    /// of its smallest semi-axis beyond a wall or inside another grain (its depth measured by
+    /// [`checks::overlap_depth`]; under the soft model: an awake grain beyond a wall by more
+    /// than [`checks::SOFT_OUTSIDE_FRACTION`] of its bounding radius, a sleeper beyond a wall
+    /// by the paper's limit, two sleepers one of which holds the other's centre), a grain still
+    /// to appear that cannot fit between the walls, would appear in the floor or (drawn) beyond
+    /// a wall, a time step too long for the grains, a queue whose groups cannot be drawn from
+    /// (as a scene's), negative gravity, an `eps` or sleep radius too coarse for the grains, a
+    /// mass or moment of inertia out of [`checks::MASS_RANGE`], a plane over the places grains
+    /// appear, a contact listed twice or with impulses no heap could give, and a dump without
+    /// `model` that holds the soft step's parts. A dump from before the queue, with every grain
+    /// still to appear in `pending`, resumes with those grains and nothing more.
     pub fn to_world(&self) -> Result<World, DumpError> {
         if self.step >= checks::MAX_STEP {
             return Err(DumpError::Step(self.step));
