@@ -410,8 +410,8 @@ const MAX_PAIRS: usize = 1_000_000;
 /// A pair count for `bench contact`: at least 1, at most [`MAX_PAIRS`] (4,000,000,000 asked for
 /// more memory than there is, and panicked).
 fn pair_count(s: &str) -> Result<usize, String> {
-    match s.parse::<usize>() {
-        Ok(n) if (1..=MAX_PAIRS).contains(&n) => Ok(n),
+    match at_least_one(s)? {
+        n if n <= MAX_PAIRS => Ok(n),
         _ => Err(format!(
             "expected a whole number from 1 to {MAX_PAIRS} (a million pairs a class take some \
              250 MB, and a pass over them by the quadtree a minute or more), got {s}"

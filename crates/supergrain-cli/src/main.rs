@@ -55,6 +55,8 @@ struct Cli {
     command: Command,
 }
 
+// Parsed once per process: the size of `run`'s many options costs nothing.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Pour grains into the box: a scene file, one of the paper's presets, or a dump to resume.

@@ -63,8 +63,8 @@ impl PictureArgs {
 
 /// The longest side a picture may have, in pixels.
 const MAX_SIDE: f64 = 32_768.0;
-/// The most pixels a picture may have: 8192 x 8192, 256 MiB of RGBA.
-const MAX_PIXELS: f64 = 8192.0 * 8192.0;
+/// The most pixels a picture may have: 8192 x 16384, 512 MiB of RGBA.
+const MAX_PIXELS: f64 = 8192.0 * 16384.0;
 
 /// Refuses, before any work, a picture of `world` (by `style`) too large to draw: a box much
 /// taller than wide (`top = 1e6` in a box 2 wide asked for 1.2 TB and aborted the run, its
@@ -101,7 +101,7 @@ pub fn check_size(world: &World, style: &Style, flag: &str) -> Result<()> {
     bail!(
         "{flag}: the picture would be {} x {} pixels (the region drawn, the box up to where \
          grains appear, is {} wide and {} tall), more than {MAX_SIDE} pixels on a side or \
-         8192 x 8192 in all; {fix}",
+         8192 x 16384 in all; {fix}",
         style.width,
         pixels(height),
         short(region.width()),

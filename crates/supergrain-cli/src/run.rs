@@ -385,9 +385,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
         if k % 50 == 0 || last_shown.elapsed().as_secs_f64() >= 1.0 {
             last_shown = Instant::now();
             let state = format!(
-                "{} grains, {} asleep, fastest {fastest:.3}",
+                "{} grains, {} asleep, fastest {}",
                 world.bodies.len(),
-                world.asleep()
+                world.asleep(),
+                speed(fastest)
             );
             if !log_lines {
                 bar.set_position(k);
@@ -446,7 +447,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if !args.quiet {
         eprintln!(
             "{} grains ({} still to appear), {} steps in {:.2} s: {:.1} steps/s, {:.1} contacts/step, \
-             deepest remaining penetration {:.2e}, fastest grain {:.3}",
+             deepest remaining penetration {:.2e}, fastest grain {}",
             world.bodies.len(),
             world.pending_count(),
             done,
@@ -454,7 +455,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             done as f64 / elapsed.max(1e-9),
             contacts as f64 / done.max(1) as f64,
             world.deepest_penetration(),
-            world.max_speed(),
+            speed(world.max_speed()),
         );
         if let Some(o) = world.overlaps() {
             eprintln!(
@@ -583,6 +584,16 @@ fn positive_number(s: &str) -> Result<f64, String> {
     }
 }
 
+/// A speed for the progress line and the summary: three decimals, in exponent form when huge (a
+/// run gone wrong).
+fn speed(x: f64) -> String {
+    if x.abs() < 1e6 {
+        format!("{x:.3}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 /// A value the user gave, for a message: at most 40 characters of it.
 fn shown(s: &str) -> String {
     match s.char_indices().nth(40) {
@@ -596,8 +607,8 @@ fn shown(s: &str) -> String {
 const GIF_FPS: (f64, f64) = (0.1, 50.0);
 
 fn gif_fps(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if (GIF_FPS.0..=GIF_FPS.1).contains(&v) => Ok(v),
+    match positive_number(s)? {
+        v if (GIF_FPS.0..=GIF_FPS.1).contains(&v) => Ok(v),
         _ => Err(format!(
             "expected frames per second from {} to {} (a GIF's frame delay is whole hundredths \
              of a second; browsers play delays under 2 hundredths at 10 frames per second), \
@@ -723,11 +734,10 @@ fn load(args: &Args) -> Result<(World, u64)> {
     Ok((World::new(&scene), steps))
 }
 
-/// `message` with each line longer than a terminal's few lines cut short: a parser's error
-/// quotes the line it failed on, and a file of one long line (minified JSON) would fill the
-/// screen.
+/// `message` with each line longer than a screenful cut short: a parser's error quotes the line
+/// it failed on, and a file of one long line (a dump, minified JSON) would fill the screen.
 fn clip_lines(message: &str) -> String {
-    const MOST: usize = 160;
+    const MOST: usize = 600;
     message
         .lines()
         .map(|line| match line.char_indices().nth(MOST) {

@@ -53,7 +53,10 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(t) = args.quit_after
         && !(t.is_finite() && t > 0.0)
     {
-        anyhow::bail!("--quit-after must be a positive number of seconds, got {t}");
+        anyhow::bail!(
+            "--quit-after must be a positive number of seconds, got {}",
+            crate::number(t)
+        );
     }
     let launch = Launch {
         log_fps: args.log_fps,

@@ -305,8 +305,8 @@ fn a_run_with_ten_million_grains_still_to_appear_writes_a_small_dump() {
         dir.path(),
         "sand.toml",
         "seed = 3\nsteps = 20\n\n[box]\nleft = -200.0\nright = 200.0\nfloor = 0.0\ntop = 300.0\n\n\
-         [spawn]\ninterval = 1\ncount = 50\n\n[[group]]\nname = \"sand\"\ncount = 10000000\n\
-         radius = 0.05\n",
+         [spawn]\ninterval = 1\ncount = 50\n\n[solver]\nstep = 0.001\n\n[[group]]\nname = \"sand\"\n\
+         count = 10000000\nradius = 0.05\n",
     );
     let dump_path = dir.path().join("sand.json");
     let err = ok(&sg(&["run", p(&scene), "--dump", p(&dump_path)]));

@@ -12,7 +12,7 @@ use crate::contact::WarmStart;
 use crate::geometry::Vec2;
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
-use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings};
+use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings, material_of};
 use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::Precision;
 use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Touch, World, checks};
@@ -257,7 +257,9 @@ pub struct SolverJson {
     /// "grid" or "all-pairs"; absent: "grid" (the results are the same).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub broad_phase: Option<String>,
-    /// "paper" or "soft"; absent: "paper".
+    /// "paper" or "soft"; absent (dumps before the key, which wrote it for the soft model
+    /// alone): "paper", unless the dump holds the soft step's parts (`soft`, `materials`,
+    /// `wall_material`, `planes`, `contacts`, `sleep_islands`), when it is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub model: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -316,7 +318,11 @@ pub enum DumpError {
     Solver(String),
     #[error("particle {0}: a number is not finite")]
     NotFinite(usize),
-    #[error("step: {0} is past the last step a dump can hold ({max})", max = checks::MAX_STEP)]
+    #[error(
+        "step: {0} leaves no exact step to go on to: a dump holds steps below {max} (2^53, past \
+         which a step's time is not exact)",
+        max = checks::MAX_STEP
+    )]
     Step(u64),
     /// A state the solver cannot go on from: a grain outside the box or deep in another, a
     /// grain that cannot fit or appear, a time step too long for the grains.
@@ -397,7 +403,15 @@ impl Dump {
                     }
                     .into(),
                 ),
-                model: (s.model == Model::Soft).then(|| "soft".into()),
+                // Always written: a dump that does not say is refused when it holds the soft
+                // step's parts, and read as the paper's otherwise (dumps before the key).
+                model: Some(
+                    match s.model {
+                        Model::Paper => "paper",
+                        Model::Soft => "soft",
+                    }
+                    .into(),
+                ),
                 soft: (s.model == Model::Soft).then(|| {
                     let k = &s.soft;
                     SoftJson {
@@ -437,19 +451,38 @@ impl Dump {
         }
     }
 
+    /// The first of the soft step's parts the dump holds, by its key.
+    fn soft_part(&self) -> Option<&'static str> {
+        let solver = self.solver.as_ref();
+        [
+            ("soft", solver.is_some_and(|s| s.soft.is_some())),
+            ("sleep_islands", solver.is_some_and(|s| s.sleep_islands)),
+            ("materials", !self.materials.is_empty()),
+            ("wall_material", self.wall_material.is_some()),
+            ("planes", !self.planes.is_empty()),
+            ("contacts", !self.contacts.is_empty()),
+        ]
+        .into_iter()
+        .find_map(|(key, held)| held.then_some(key))
+    }
+
     /// The world this dump describes, ready to go on.
     ///
-    /// Refused before any work (see [`checks`]): a non-finite number, a `step` past
-    /// [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`] of its smallest
-    /// semi-axis beyond a wall or inside another grain (under the soft model: an awake grain
-    /// beyond a wall by more than [`checks::SOFT_OUTSIDE_FRACTION`] of its bounding radius; only
-    /// sleepers, which the soft step does not move, are held to the paper's limits), a grain
-    /// still to appear that cannot fit between the walls, would appear in the floor or (drawn)
-    /// beyond a wall, a time step too long for the grains, a queue whose groups cannot be drawn
-    /// from (as a scene's). A dump from before the queue, with
-    /// every grain still to appear in `pending`, resumes with those grains and nothing more.
+    /// Refused before any work (see [`checks`]), as a scene's settings are: a non-finite number,
+    /// a `step` not below [`checks::MAX_STEP`], a grain deeper than [`checks::DEPTH_FRACTION`]
+    /// of its smallest semi-axis beyond a wall or inside another grain (its depth measured by
+    /// [`checks::overlap_depth`]; under the soft model: an awake grain beyond a wall by more
+    /// than [`checks::SOFT_OUTSIDE_FRACTION`] of its bounding radius, a sleeper beyond a wall
+    /// by the paper's limit, two sleepers one of which holds the other's centre), a grain still
+    /// to appear that cannot fit between the walls, would appear in the floor or (drawn) beyond
+    /// a wall, a time step too long for the grains, a queue whose groups cannot be drawn from
+    /// (as a scene's), negative gravity, an `eps` or sleep radius too coarse for the grains, a
+    /// mass or moment of inertia out of [`checks::MASS_RANGE`], a plane over the places grains
+    /// appear, a contact listed twice or with impulses no heap could give, and a dump without
+    /// `model` that holds the soft step's parts. A dump from before the queue, with every grain
+    /// still to appear in `pending`, resumes with those grains and nothing more.
     pub fn to_world(&self) -> Result<World, DumpError> {
-        if self.step > checks::MAX_STEP {
+        if self.step >= checks::MAX_STEP {
             return Err(DumpError::Step(self.step));
         }
         let w = &self.walls;
@@ -471,7 +504,8 @@ impl Dump {
                         s.damping
                     )));
                 },
-                gravity: s.gravity,
+                // As a scene's: down or none (a negative one pulled grains through the top).
+                gravity: non_negative("gravity", s.gravity)?,
                 max_iterations: s.max_iterations,
                 slop: non_negative("slop", s.slop)?,
                 sleep_radius: non_negative("sleep_radius", s.sleep_radius)?,
@@ -510,7 +544,17 @@ impl Dump {
                     }
                 },
                 model: match s.model.as_deref() {
-                    None | Some("paper") => Model::Paper,
+                    None => {
+                        if let Some(part) = self.soft_part() {
+                            return Err(DumpError::Solver(format!(
+                                "model is missing, and the dump holds `{part}`, which only \
+                                 model \"soft\" has: add \"model\": \"soft\" to \"solver\" (or \
+                                 \"paper\" without the soft step's parts)"
+                            )));
+                        }
+                        Model::Paper
+                    }
+                    Some("paper") => Model::Paper,
                     Some("soft") => Model::Soft,
                     Some(other) => {
                         return Err(DumpError::Solver(format!(
@@ -670,7 +714,6 @@ impl Dump {
             return Err(DumpError::Walls(format!("top must be finite, got {top}")));
         }
         checks::check_box(&walls, top).map_err(DumpError::Walls)?;
-        checks::check_sleep(&settings).map_err(DumpError::Unworkable)?;
         for (index, p) in waiting.iter().enumerate() {
             let what = if old {
                 format!("pending grain {index}")
@@ -712,9 +755,11 @@ impl Dump {
             .iter()
             .map(|b| b.shape.min_semi_axis())
             .fold(pending.smallest_semi_axis(), f64::min);
+        checks::check_sleep(&settings, smallest).map_err(DumpError::Unworkable)?;
         if smallest.is_finite() {
             checks::check_time_step(&settings, top - w.floor, smallest)
                 .map_err(DumpError::Unworkable)?;
+            checks::check_eps(&settings, smallest).map_err(DumpError::Unworkable)?;
         }
         let materials = self
             .materials
@@ -722,6 +767,7 @@ impl Dump {
             .enumerate()
             .map(|(g, m)| m.to_material(&format!("materials[{g}]")))
             .collect::<Result<Vec<_>, _>>()?;
+        check_masses(&bodies, &pending, &materials)?;
         let wall_material = match &self.wall_material {
             None => Material::default(),
             Some(m) => m.to_material("wall_material")?,
@@ -740,8 +786,19 @@ impl Dump {
         for (k, p) in self.planes.iter().enumerate() {
             let plane = HalfPlane::new(Vec2::from(p.normal), p.offset)
                 .map_err(|e| DumpError::Walls(format!("planes[{k}]: {e}")))?;
+            if !world.pending.is_empty() {
+                let radii = [
+                    world.pending.smallest_bounding_radius(),
+                    world.pending.largest_bounding_radius(),
+                ];
+                let (rule, thinnest) = (world.pending.rule(), world.pending.smallest_semi_axis());
+                checks::check_plane(&plane, k, &world.walls, top, rule, radii, thinnest)
+                    .map_err(|e| DumpError::Walls(format!("planes[{k}]: {e}")))?;
+            }
             world.planes.push(plane);
         }
+        let (most, most_rolling) = impulse_limits(&world, &velocities);
+        let mut seen = std::collections::HashMap::new();
         for (index, c) in self.contacts.iter().enumerate() {
             let bad = |why: &str| DumpError::Solver(format!("contacts[{index}]: {why}"));
             let key = match (c.b, c.wall) {
@@ -753,6 +810,18 @@ impl Dump {
                     ));
                 }
             };
+            // A dump writes each pair once (`kept_contacts`); a second entry would replace
+            // the first's impulses unseen.
+            if let Some(first) = seen.insert(key, index) {
+                return Err(bad(&format!(
+                    "the same contact as contacts[{first}] (a = {}, {})",
+                    c.a,
+                    match (c.b, c.wall) {
+                        (Some(b), _) => format!("b = {b}"),
+                        (_, w) => format!("wall = {}", w.unwrap_or_default()),
+                    }
+                )));
+            }
             let finite = |x: &[f64]| x.iter().all(|v| v.is_finite());
             let normal = c.normal_impulse.unwrap_or_default();
             let tangent = c.tangent_impulse.unwrap_or_default();
@@ -760,6 +829,20 @@ impl Dump {
                 || normal.iter().any(|&x| x < 0.0)
             {
                 return Err(bad("impulses must be finite, normal ones >= 0"));
+            }
+            let largest = normal
+                .iter()
+                .chain(&tangent)
+                .fold(0.0f64, |m, x| m.max(x.abs()));
+            if largest > most || c.rolling_impulse.abs() > most_rolling {
+                return Err(bad(&format!(
+                    "an impulse of {} is more than the whole heap's momentum could give \
+                     ({IMPULSE_MARGIN} x its mass x the fastest speed a step can reach: {} \
+                     for a push, {} for rolling)",
+                    checks::short(largest.max(c.rolling_impulse.abs())),
+                    checks::short(most),
+                    checks::short(most_rolling)
+                )));
             }
             // A contact of the last step has its impulses written (`kept_contacts`); an entry
             // with nothing at all is one too (dumps before 2026-12-05 left zero impulses out).
@@ -830,25 +913,46 @@ impl Dump {
         }
         let mut deep = None;
         world.contacts(|t| {
-            if let Touch::Grains(i, j, p) = t {
-                let asleep = |k: usize| world.bodies[k].asleep(&world.settings);
-                if soft && !(asleep(i) && asleep(j)) {
-                    return;
+            let Touch::Grains(i, j, p) = t else { return };
+            if deep.is_some() {
+                return;
+            }
+            let (a, b) = (&world.bodies[i], &world.bodies[j]);
+            if soft {
+                // Sleepers rest deeper in each other than the paper's limit: contacts keep the
+                // solver's slop and give under load, and a needle is thin (60 needles of smallest
+                // semi-axis 0.025-0.03 slept 0.56-0.79 of it deep, by `checks::overlap_depth`:
+                // 9 of their 15 checkpoints were refused). No contact leaves a grain's centre
+                // inside another, and a pair of sleepers is refused only then.
+                if a.asleep(&world.settings) && b.asleep(&world.settings) {
+                    let holds = |o: &Body, c: Vec2| o.shape.value(&o.pose(), c) < 0.0;
+                    if holds(a, b.center) || holds(b, a.center) {
+                        deep = Some(format!(
+                            "particles {i} and {j} overlap so deep that one holds the other's \
+                             centre, both asleep: not a state the solver leaves"
+                        ));
+                    }
                 }
-                let thin_of = |k: usize| world.bodies[k].shape.min_semi_axis();
-                let thin = thin_of(i).min(thin_of(j));
-                let shallow = p.depth() <= checks::DEPTH_FRACTION * thin;
-                if deep.is_none() && !shallow {
-                    deep = Some((i, j, p.depth(), thin));
-                }
+                return;
+            }
+            let thin = a.shape.min_semi_axis().min(b.shape.min_semi_axis());
+            let limit = checks::DEPTH_FRACTION * thin;
+            // The penetration vectors bound the depth from above; only a pair they do not
+            // clear is measured (see `checks::overlap_depth`).
+            if p.depth() <= limit {
+                return;
+            }
+            let depth = checks::overlap_depth(a, b, &p, checks::DEPTH_TOLERANCE * thin);
+            if depth > limit {
+                deep = Some(format!(
+                    "particles {i} and {j} overlap {depth:.3e} deep, more than {} x the smaller \
+                     smallest semi-axis ({thin}): not a state the solver leaves",
+                    checks::DEPTH_FRACTION
+                ));
             }
         });
-        if let Some((i, j, depth, thin)) = deep {
-            return Err(DumpError::Unworkable(format!(
-                "particles {i} and {j} overlap {depth:.3e} deep, more than {} x the smaller \
-                 smallest semi-axis ({thin}): not a state the solver leaves",
-                checks::DEPTH_FRACTION
-            )));
+        if let Some(message) = deep {
+            return Err(DumpError::Unworkable(message));
         }
         Ok(world)
     }
@@ -896,6 +1000,66 @@ fn kept_contacts(world: &World) -> Vec<ContactJson> {
             }
         })
         .collect()
+}
+
+/// How many times the whole heap's momentum a kept contact's impulse may be (see
+/// [`impulse_limits`]).
+const IMPULSE_MARGIN: f64 = 1000.0;
+
+/// The largest impulses a kept contact of `world` may hold, a push and a rolling one:
+/// [`IMPULSE_MARGIN`] times the grains' total mass times the fastest speed a step can bring
+/// (a fall from the top, the fastest grain of the dump, a step's gravity and the contacts'
+/// push-out), and for rolling times the largest bounding radius too. A contact's impulse over a
+/// step is at most the weight it carries over the step plus the momentum it stops, both far
+/// below this; `1e300` was accepted, and the first step flung the grains out.
+fn impulse_limits(world: &World, velocities: &[Vec2]) -> (f64, f64) {
+    let s = &world.settings;
+    let mass: f64 = (0..world.bodies.len())
+        .map(|i| world.material(i).mass_and_inertia(&world.bodies[i].shape).0)
+        .sum();
+    let fastest = velocities.iter().map(|v| v.norm()).fold(0.0, f64::max);
+    let fall = (2.0 * s.gravity * (world.top - world.walls.floor).max(0.0)).sqrt();
+    let speed = fall + fastest + s.gravity * s.step + s.soft.push_out;
+    let reach = world
+        .bodies
+        .iter()
+        .map(|b| b.shape.bounding_radius())
+        .fold(0.0, f64::max);
+    let most = IMPULSE_MARGIN * mass * speed;
+    (most, most * reach)
+}
+
+/// Refuses a grain (a particle, a waiting grain, the extremes of a group still to draw) whose
+/// material gives it a mass or moment of inertia out of [`checks::MASS_RANGE`].
+fn check_masses(bodies: &[Body], pending: &Queue, materials: &[Material]) -> Result<(), DumpError> {
+    let material = |group: u32| material_of(materials, group);
+    for (index, b) in bodies.iter().enumerate() {
+        checks::check_mass(&material(b.group), &b.shape)
+            .map_err(|e| DumpError::Unworkable(format!("particle {index}: {e}")))?;
+    }
+    for (index, p) in pending.waiting().iter().enumerate() {
+        checks::check_mass(&material(p.group), &p.shape)
+            .map_err(|e| DumpError::Unworkable(format!("queue: waiting grain {index}: {e}")))?;
+    }
+    for (index, g) in pending
+        .generator()
+        .map_or(&[][..], |g| g.groups())
+        .iter()
+        .enumerate()
+    {
+        if g.count == 0 {
+            continue;
+        }
+        let (least, largest) = g
+            .extreme_shapes()
+            .map_err(|e| DumpError::Queue(format!("generator: group {index}: {e}")))?;
+        for shape in [least, largest] {
+            checks::check_mass(&material(index as u32), &shape).map_err(|e| {
+                DumpError::Unworkable(format!("queue: generator: group {index}: {e}"))
+            })?;
+        }
+    }
+    Ok(())
 }
 
 /// How many box widths a grain of a dump may move in one step (see [`Dump::to_world`]).

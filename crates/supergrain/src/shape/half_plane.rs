@@ -1,6 +1,10 @@
 use super::{ShapeError, check_finite};
 use crate::geometry::{Aabb, Vec2};
 
+/// The shortest normal [`HalfPlane::new`] scales to length 1: far from any length a scene means,
+/// and its reciprocal (1e300) far from overflowing.
+pub const MIN_NORMAL: f64 = 1e-300;
+
 /// A wall of the box (paper III-B): the half-plane `g(p) = n . p - d`, solid where `g < 0`,
 /// with `n` a unit normal pointing out of the wall into the free space.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -10,20 +14,23 @@ pub struct HalfPlane {
 }
 
 impl HalfPlane {
-    /// `g = n . p - d` with `n` normalised (its length is divided out of `d` as well).
+    /// `g = n . p - d` with `n` normalised (its length is divided out of `d` as well). A normal
+    /// shorter than [`MIN_NORMAL`] is refused: `1 / len` of a subnormal length overflows, and
+    /// `[1e-310, 0]` was scaled to `[inf, NaN]` (written to dumps as `[null, null]`).
     pub fn new(normal: Vec2, offset: f64) -> Result<Self, ShapeError> {
         check_finite("wall offset", offset)?;
         let len = normal.norm();
-        if !(len.is_finite() && len > 0.0) {
+        if !(len.is_finite() && len >= MIN_NORMAL) {
             return Err(ShapeError::BadDirection {
                 name: "wall normal",
                 x: normal.x,
                 y: normal.y,
             });
         }
+        let offset = check_finite("wall offset over the normal's length", offset / len)?;
         Ok(HalfPlane {
             normal: normal * (1.0 / len),
-            offset: offset / len,
+            offset,
         })
     }
 

@@ -26,7 +26,10 @@ pub enum ShapeError {
         lo: f64,
         hi: f64,
     },
-    #[error("{name} must be a non-zero finite vector, got ({x}, {y})")]
+    #[error(
+        "{name} must be a finite vector long enough to scale to length 1 (its length at least \
+         1e-300), got ({x:e}, {y:e})"
+    )]
     BadDirection { name: &'static str, x: f64, y: f64 },
 }
 

@@ -162,6 +162,39 @@ impl Superellipse {
             .collect()
     }
 
+    /// How deep the point `p` lies in the placed shape: its distance to the boundary (0 outside),
+    /// from above and within about `tol` of it. The distance to the nearest of the boundary
+    /// points sampled as the graphs `y(x)` and `x(y)` of a quadrant, each interval halved until
+    /// its ends are at most `tol` apart (at most 2^16 points a graph): every sample is a point of
+    /// the boundary, so the answer is never below the distance, and where one graph is steep
+    /// (the sides of a block, a star's spikes: `y(x)` of exponent 1000 climbs from 0 to 0.98
+    /// within 1e-10 of `x = s_x`) the other is flat and sampled finely. The shape is symmetric
+    /// about both axes, so the nearest point of the boundary to a point of a quadrant is in that
+    /// quadrant (reflecting a point into it brings it no further), and one quadrant is sampled.
+    ///
+    /// A penetration vector (`A1 -> B2`) is no such measure: it follows the gradient to where
+    /// the ray leaves the shape, which for a star can be across a spike, far from `A1`.
+    pub fn depth_of(&self, pose: &Pose, p: Vec2, tol: f64) -> f64 {
+        let q = pose.to_local(p);
+        // Not inside (or not a number): no depth.
+        if self.local_value(q).partial_cmp(&0.0) != Some(std::cmp::Ordering::Less) {
+            return 0.0;
+        }
+        let q = Vec2::new(q.x.abs(), q.y.abs());
+        let [ex, ey] = self.exponents;
+        let s = self.semi_axes;
+        // `(1 - |t|^e)^(1 / e')`, the other coordinate's share, for t in [0, 1].
+        let rest = |t: f64, e: f64, other: f64| (1.0 - abs_pow(t, e)).max(0.0).powf(1.0 / other);
+        let over_x = |t: f64| Vec2::new(s.x * t, s.y * rest(t, ex, ey));
+        let over_y = |t: f64| Vec2::new(s.x * rest(t, ey, ex), s.y * t);
+        let tol = tol.max(self.min_semi_axis() * 1e-9);
+        let mut best = f64::INFINITY;
+        for graph in [&over_x as &dyn Fn(f64) -> Vec2, &over_y] {
+            best = best.min(nearest_on(graph, q, tol));
+        }
+        best
+    }
+
     /// An upper bound of the support function `max over the shape of d . p` for a local
     /// direction `d`: exact when `e_x = e_y`, and otherwise that of the superellipse with both
     /// exponents equal to the larger one, which contains this one.
@@ -214,6 +247,34 @@ impl Superellipse {
     pub fn moment_of_inertia(&self, mass: f64) -> f64 {
         mass * self.polar_moment_of_area() / self.area()
     }
+}
+
+/// The distance from `q` to the nearest of the points `graph(t)`, `t` in `[0, 1]`, sampled at 16
+/// even steps and each interval halved (12 times at most) until its ends are within `tol`.
+fn nearest_on(graph: &dyn Fn(f64) -> Vec2, q: Vec2, tol: f64) -> f64 {
+    const FIRST: u32 = 16;
+    const MAX_LEVEL: u32 = 12;
+    let mut best = (graph(0.0) - q).norm();
+    let mut stack: Vec<(f64, f64, Vec2, Vec2, u32)> = Vec::new();
+    let mut last = (0.0, graph(0.0));
+    for i in 1..=FIRST {
+        let t = f64::from(i) / f64::from(FIRST);
+        let b = graph(t);
+        best = best.min((b - q).norm());
+        stack.push((last.0, t, last.1, b, 0));
+        last = (t, b);
+    }
+    while let Some((t0, t1, b0, b1, level)) = stack.pop() {
+        if (b1 - b0).norm() <= tol || level >= MAX_LEVEL {
+            continue;
+        }
+        let t = 0.5 * (t0 + t1);
+        let b = graph(t);
+        best = best.min((b - q).norm());
+        stack.push((t0, t, b0, b, level + 1));
+        stack.push((t, t1, b, b1, level + 1));
+    }
+    best
 }
 
 /// [`Superellipse::bounding_radius`] from the shape's numbers.

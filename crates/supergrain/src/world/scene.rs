@@ -281,6 +281,31 @@ impl Scene {
                     .into(),
             ));
         }
+        // The paper's projection moves grains by geometry alone, with no masses, friction or
+        // bounce: a material key under it would be accepted and do nothing (issue 40).
+        if model == Model::Paper {
+            let tables = file
+                .groups
+                .iter()
+                .enumerate()
+                .map(|(k, g)| {
+                    let name = g.name.clone().unwrap_or_else(|| format!("group {}", k + 1));
+                    (format!("group `{name}`"), g.material_spec())
+                })
+                .chain(std::iter::once(("box".to_string(), b.material_spec())));
+            for (table, spec) in tables {
+                if let Some((key, span)) = spec.first_key() {
+                    return Err(invalid(
+                        span,
+                        format!(
+                            "{table}: `{key}` does nothing under [solver] model = \"paper\" (the \
+                             paper's projection has no masses, friction or bounce): remove it, \
+                             or use model = \"soft\", whose step uses it"
+                        ),
+                    ));
+                }
+            }
+        }
         let mut settings = Settings {
             step: s.step.map_or(defaults.step, |v| v.0),
             damping: s
@@ -384,7 +409,7 @@ impl Scene {
                 exponents,
                 same_exponents,
                 angle: g.angle.map_or(Range::new(0.0, TAU), |a| a.0),
-                material: material(g.density, g.friction, g.restitution, g.rolling_resistance),
+                material: g.material_spec().material(),
             });
         }
         if let Some(f) = &s.max_overlap {
@@ -420,10 +445,21 @@ impl Scene {
         let mut planes = Vec::new();
         for (k, p) in file.planes.iter().enumerate() {
             let spec = p.get_ref();
-            let n = Vec2::new(spec.normal[0].0, spec.normal[1].0);
-            let at = Vec2::new(spec.point[0].0, spec.point[1].0);
+            let vector = |key: &str, v: &toml::Spanned<Vec<Finite>>| match v.get_ref()[..] {
+                [x, y] => Ok(Vec2::new(x.0, y.0)),
+                _ => Err(invalid(
+                    v.span(),
+                    format!(
+                        "plane {}: {key} needs two numbers [x, y], got {}",
+                        k + 1,
+                        v.get_ref().len()
+                    ),
+                )),
+            };
+            let n = vector("normal", &spec.normal)?;
+            let at = vector("point", &spec.point)?;
             let plane = HalfPlane::new(n, n.dot(at))
-                .map_err(|e| invalid(p.span(), format!("plane {}: {e}", k + 1)))?;
+                .map_err(|e| invalid(spec.normal.span(), format!("plane {}: {e}", k + 1)))?;
             planes.push(plane);
         }
         if !planes.is_empty() && settings.model != Model::Soft {
@@ -458,7 +494,7 @@ impl Scene {
             spawn_rule,
             settings,
             groups,
-            wall_material: material(b.density, b.friction, b.restitution, b.rolling_resistance),
+            wall_material: b.material_spec().material(),
             planes,
         };
         scene.validate()?;
@@ -468,9 +504,11 @@ impl Scene {
     /// Checks what the parts cannot check alone, before any work (see [`checks`]): the analytic
     /// narrow phase needs circles only; every range can be drawn from; the extremes of every
     /// drawn range make a valid shape that fits between the walls and appears above the floor;
-    /// the box holds all the grains; a falling grain moves less than
-    /// [`checks::STEP_FRACTION`] of the smallest semi-axis per step; sleeping needs at least one
-    /// calm step.
+    /// the box holds all the grains; their masses and moments of inertia are in
+    /// [`checks::MASS_RANGE`]; a falling grain moves less than [`checks::STEP_FRACTION`] of the
+    /// smallest semi-axis per step; the quadtree's `eps` is at most [`checks::EPS_FRACTION`] of
+    /// it and the sleep radius at most it; sleeping needs at least one calm step; no plane
+    /// covers where grains appear.
     pub fn validate(&self) -> Result<(), SceneError> {
         if self.settings.narrow_phase == NarrowPhase::Analytic
             && let Some(g) = self
@@ -481,8 +519,8 @@ impl Scene {
             return Err(SceneError::NotCircles(g.name.clone()));
         }
         checks::check_box(&self.walls, self.top).map_err(SceneError::Unworkable)?;
-        checks::check_sleep(&self.settings).map_err(SceneError::Unworkable)?;
         let mut smallest = f64::INFINITY;
+        let mut radii = [f64::INFINITY, 0.0f64];
         let mut area = 0.0;
         for g in &self.groups {
             let group_error = |message: String| SceneError::Group {
@@ -511,14 +549,27 @@ impl Scene {
             let field = if g.circles { "radius" } else { "semi_axes" };
             checks::check_fits(&self.walls, self.top, largest.bounding_radius(), field)
                 .map_err(group_error)?;
+            // Mass and moment of inertia grow with each semi-axis and exponent.
+            for shape in [least, largest] {
+                checks::check_mass(&g.material, &shape).map_err(group_error)?;
+            }
             smallest = smallest.min(least.min_semi_axis());
+            radii[0] = radii[0].min(least.bounding_radius());
+            radii[1] = radii[1].max(largest.bounding_radius());
             area += f64::from(g.count) * least.area();
         }
         checks::check_capacity(&self.walls, self.top, self.grain_count(), area)
             .map_err(SceneError::Unworkable)?;
+        checks::check_sleep(&self.settings, smallest).map_err(SceneError::Unworkable)?;
         if smallest.is_finite() {
             checks::check_time_step(&self.settings, self.top - self.walls.floor, smallest)
                 .map_err(SceneError::Unworkable)?;
+            checks::check_eps(&self.settings, smallest).map_err(SceneError::Unworkable)?;
+            for (k, plane) in self.planes.iter().enumerate() {
+                let (walls, rule) = (&self.walls, self.spawn_rule);
+                checks::check_plane(plane, k + 1, walls, self.top, rule, radii, smallest)
+                    .map_err(SceneError::Unworkable)?;
+            }
         }
         Ok(())
     }
@@ -561,8 +612,9 @@ struct SceneFile {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PlaneSpec {
-    normal: [Finite; 2],
-    point: [Finite; 2],
+    // Vectors, not arrays: a third number must be an error, not dropped.
+    normal: toml::Spanned<Vec<Finite>>,
+    point: toml::Spanned<Vec<Finite>>,
 }
 
 #[derive(Deserialize)]
@@ -572,11 +624,11 @@ struct BoxSpec {
     right: toml::Spanned<Finite>,
     floor: toml::Spanned<Finite>,
     top: toml::Spanned<Finite>,
-    // The material's keys (see [`material`]).
-    density: Option<Positive>,
-    friction: Option<NonNegative>,
-    restitution: Option<UnitInterval>,
-    rolling_resistance: Option<NonNegative>,
+    // The material's keys (see [`MaterialSpec`]).
+    density: Option<toml::Spanned<Positive>>,
+    friction: Option<toml::Spanned<NonNegative>>,
+    restitution: Option<toml::Spanned<UnitInterval>>,
+    rolling_resistance: Option<toml::Spanned<NonNegative>>,
 }
 
 #[derive(Deserialize, Clone)]
@@ -758,27 +810,71 @@ struct GroupSpec {
     exponent: Option<PositiveRange>,
     exponents: Option<toml::Spanned<Vec<PositiveRange>>>,
     angle: Option<FiniteRange>,
-    // The material's keys (see [`material`]).
-    density: Option<Positive>,
-    friction: Option<NonNegative>,
-    restitution: Option<UnitInterval>,
-    rolling_resistance: Option<NonNegative>,
+    // The material's keys (see [`MaterialSpec`]).
+    density: Option<toml::Spanned<Positive>>,
+    friction: Option<toml::Spanned<NonNegative>>,
+    restitution: Option<toml::Spanned<UnitInterval>>,
+    rolling_resistance: Option<toml::Spanned<NonNegative>>,
 }
 
-/// A material from its keys in a `[[group]]` or in `[box]` (the walls'); absent keys take
-/// [`Material::default`]'s values.
-fn material(
-    density: Option<Positive>,
-    friction: Option<NonNegative>,
-    restitution: Option<UnitInterval>,
-    rolling_resistance: Option<NonNegative>,
-) -> Material {
-    let d = Material::default();
-    Material {
-        density: density.map_or(d.density, |v| v.0),
-        friction: friction.map_or(d.friction, |v| v.0),
-        restitution: restitution.map_or(d.restitution, |v| v.0),
-        rolling_resistance: rolling_resistance.map_or(d.rolling_resistance, |v| v.0),
+/// The [`MaterialSpec`] of a `[[group]]` or of `[box]`.
+macro_rules! impl_material_spec {
+    ($($spec:ty),*) => {$(
+        impl $spec {
+            fn material_spec(&self) -> MaterialSpec {
+                MaterialSpec {
+                    density: self.density.clone(),
+                    friction: self.friction.clone(),
+                    restitution: self.restitution.clone(),
+                    rolling_resistance: self.rolling_resistance.clone(),
+                }
+            }
+        }
+    )*};
+}
+
+impl_material_spec!(GroupSpec, BoxSpec);
+
+/// A material's keys in a `[[group]]` or in `[box]` (the walls'), where they were written.
+struct MaterialSpec {
+    density: Option<toml::Spanned<Positive>>,
+    friction: Option<toml::Spanned<NonNegative>>,
+    restitution: Option<toml::Spanned<UnitInterval>>,
+    rolling_resistance: Option<toml::Spanned<NonNegative>>,
+}
+
+impl MaterialSpec {
+    /// The material; absent keys take [`Material::default`]'s values.
+    fn material(&self) -> Material {
+        let d = Material::default();
+        Material {
+            density: self.density.as_ref().map_or(d.density, |v| v.get_ref().0),
+            friction: self.friction.as_ref().map_or(d.friction, |v| v.get_ref().0),
+            restitution: self
+                .restitution
+                .as_ref()
+                .map_or(d.restitution, |v| v.get_ref().0),
+            rolling_resistance: self
+                .rolling_resistance
+                .as_ref()
+                .map_or(d.rolling_resistance, |v| v.get_ref().0),
+        }
+    }
+
+    /// The first key given, by name, and where.
+    fn first_key(&self) -> Option<(&'static str, std::ops::Range<usize>)> {
+        [
+            ("density", self.density.as_ref().map(|v| v.span())),
+            ("friction", self.friction.as_ref().map(|v| v.span())),
+            ("restitution", self.restitution.as_ref().map(|v| v.span())),
+            (
+                "rolling_resistance",
+                self.rolling_resistance.as_ref().map(|v| v.span()),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(key, span)| span.map(|s| (key, s)))
+        .min_by_key(|(_, s)| s.start)
     }
 }
 

@@ -383,6 +383,13 @@ impl Queue {
             .fold(0.0, f64::max)
     }
 
+    /// The smallest bounding radius a grain still to appear can have (infinite for none).
+    pub fn smallest_bounding_radius(&self) -> f64 {
+        self.shapes()
+            .map(|s| s.bounding_radius())
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// The smallest semi-axis a grain still to appear can have (infinite for none).
     pub fn smallest_semi_axis(&self) -> f64 {
         self.shapes()
