@@ -117,7 +117,14 @@ fn repose_angle(mu: f64) -> f64 {
 /// At this size the seeds of 0.3 and 0.5, and of 0.5 and 0.8, overlap, so only 0.1 and 0.5 are
 /// asserted.
 ///
-/// Can fail: with `mu = 0.5` on both sides the two angles are the same, and the margin of 8
+/// 2026-12-06 (issue 40: no slop, 60 Hz, sleeping by islands) the heaps stand lower: 9.1 and
+/// 16.4 degrees. Each change lowers the angle at `mu = 0.5`: 25.9 before, 22.7 without the slop,
+/// 20.5 at 60 Hz, 16.4 by islands (a flank grain asleep on its own held up those above it as a
+/// wall does; by islands the flank creeps on until the whole heap is calm; Box2D's looser sleep,
+/// 0.05 units/s for half a second, gives 13.1 here). The margin is 5 degrees, not 8; the gap to
+/// Box2D's 34.6 is open (docs/physics.md, "Overlap").
+///
+/// Can fail: with `mu = 0.5` on both sides the two angles are the same, and the margin of 5
 /// degrees fails (checked when this was written).
 #[test]
 fn the_angle_of_repose_rises_with_friction() {
@@ -125,7 +132,7 @@ fn the_angle_of_repose_rises_with_friction() {
     let high = repose_angle(0.5);
     eprintln!("angle of repose: {low:.1} degrees at mu = 0.1, {high:.1} at mu = 0.5");
     assert!(
-        high > low + 8.0,
+        high > low + 5.0,
         "mu = 0.5 stands at {high:.1} degrees, mu = 0.1 at {low:.1}"
     );
     assert!(

@@ -466,10 +466,13 @@ fn the_stress_of_a_column_at_rest_is_its_weight_on_its_contacts() {
         (syy - want).abs() <= 0.02 * want.abs(),
         "sigma_yy {syy}, the statics say {want}"
     );
+    // (Within 1e-3 of sigma_yy until 2026-12-06; with the contacts solved to zero separation
+    // at 60 Hz, 2.3e-3: the stiffer faces share the load unevenly between a block's side
+    // points, and the friction that holds them leaves a side stress of that size.)
     for s in [sxx, sxy, syx] {
         assert!(
-            s.abs() <= 1e-3 * want.abs(),
-            "a column has no shear or side stress: {s}"
+            s.abs() <= 3e-3 * want.abs(),
+            "a column has no shear or side stress: {s} (sigma_yy {syy}, want {want})"
         );
     }
     assert!(w.stress().is_some());

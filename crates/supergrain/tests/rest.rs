@@ -34,37 +34,43 @@ fn until_rest(world: &mut World, limit: u64, settle: u64) -> (u64, f64) {
     (all_in.expect("all in"), fastest)
 }
 
-fn pour(groups: &str) -> World {
+fn pour(solver: &str, groups: &str) -> World {
     let text = format!(
         "seed = 1\n[box]\nleft = -3.0\nright = 3.0\nfloor = 0.0\ntop = 6.0\n\
-         [spawn]\ninterval = 4\n{groups}"
+         [spawn]\ninterval = 4\n[solver]\n{solver}\n{groups}"
     );
-    World::new(&Scene::from_toml(&text).expect("a valid scene"))
+    World::new(&Scene::from_toml(&text).unwrap_or_else(|e| panic!("{e}")))
 }
 
 /// Issue 40's "energy from nowhere": 6 disks of radius 0.8 and 80 of radius 0.04 poured into a
 /// box 6 wide; and the same with the small disks 300 times as dense. Both come to rest, and once
 /// every grain has had time to land (1.5 s after the last appears: a fall from the top takes
-/// 1.1 s) no grain is faster than a fall from the top, `sqrt(2 g top)` = 10.8.
+/// 1.1 s: 300 steps of 0.005) no grain is faster than a fall from the top, `sqrt(2 g top)` = 10.8. The step is
+/// 0.005: at the default 0.01 the scene is now refused (a small disk falling from the top would
+/// move more than its diameter in a step).
 ///
 /// Until 2026-12-06 small grains of the first were shot out at 73-166 units/s (reaching y =
 /// 437) and the heap never rested in 8,000 steps: two disks that met within a step overlapped
 /// with no contact holding them, and the next step's contact pushed them apart from that overlap
 /// (now disks get speculative contacts, `solver/soft.rs`); grain by grain, a cluster of sleepers
 /// woke into a huge impulse (now the soft model sleeps by islands). Measured when this was
-/// written: at rest at steps 2,066 and 1,431, the fastest grain after landing 1.4 and 5.1.
-/// Can fail: with `sleep_islands = false` the first shoots a grain out at 157 units/s.
+/// written: at rest at steps 1,494 and 1,781, the fastest grain after landing 2.2 and 6.0.
+/// Can fail: with `sleep_islands = false` the first shoots a grain out at 95 units/s (checked).
 #[test]
 fn a_pour_of_very_unequal_disks_rests_without_gaining_energy() {
     let fall = (2.0 * G * 6.0).sqrt();
     for (name, small) in [
         ("sizes 20:1", "radius = 0.04"),
-        ("sizes 20:1, densities 300:1", "radius = 0.04\ndensity = 300.0"),
+        (
+            "sizes 20:1, densities 300:1",
+            "radius = 0.04\ndensity = 300.0",
+        ),
     ] {
-        let mut w = pour(&format!(
-            "[[group]]\ncount = 6\nradius = 0.8\n[[group]]\ncount = 80\n{small}\n"
-        ));
-        let (all_in, fastest) = until_rest(&mut w, 8000, 150);
+        let mut w = pour(
+            "step = 0.005",
+            &format!("[[group]]\ncount = 6\nradius = 0.8\n[[group]]\ncount = 80\n{small}\n"),
+        );
+        let (all_in, fastest) = until_rest(&mut w, 16000, 300);
         eprintln!(
             "{name}: all in at step {all_in}, at rest at step {}, fastest after landing {fastest:.3}",
             w.step
@@ -85,13 +91,14 @@ fn a_pour_of_very_unequal_disks_rests_without_gaining_energy() {
 /// step it fell asleep and an awake grain pressed on a sleeper was squeezed: the bidisperse heap
 /// of docs/physics.md left a median grain 4.3 weights off and, woken, sank 2.7% of a grain's size.
 /// By islands without settling their forces, 166 grains of 1,000 were more than 1% off (the
-/// worst 6%). Measured when this was written, on 120 disks of radii 0.25-0.35: see the message.
-/// Can fail: without `settle` in `solver/soft.rs`, the force check fails.
+/// worst 6%). Measured when this was written, on 60 disks of radii 0.25 and 0.35: see the message.
+/// Can fail: without `settle` in `solver/soft.rs` a grain is 2.4% of a weight off (checked).
 #[test]
 fn a_heap_asleep_by_islands_balances_and_stays_put_when_woken() {
     let mut w = pour(
-        "[[group]]\ncount = 60\nradius = 0.25\nfriction = 0.6\n\
-         [[group]]\ncount = 60\nradius = 0.35\nfriction = 0.6\n",
+        "",
+        "[[group]]\ncount = 30\nradius = 0.25\nfriction = 0.6\n\
+         [[group]]\ncount = 30\nradius = 0.35\nfriction = 0.6\n",
     );
     until_rest(&mut w, 6000, 150);
     let n = w.bodies.len();
@@ -142,6 +149,9 @@ fn a_heap_asleep_by_islands_balances_and_stays_put_when_woken() {
         w.step - 300
     );
     assert!(worst_force < 0.01, "a grain is {worst_force} weights off");
-    assert!(worst_torque < 0.01, "a grain's torque is {worst_torque} off");
+    assert!(
+        worst_torque < 0.01,
+        "a grain's torque is {worst_torque} off"
+    );
     assert!(moved < 1e-3, "woken, a grain moved {moved} of its size");
 }

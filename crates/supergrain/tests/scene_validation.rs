@@ -104,14 +104,14 @@ fn the_sleep_radius_defaults_by_model_and_a_given_one_is_kept() {
     assert_eq!(Settings::default().sleep_radius, 0.002);
 }
 
-/// Sleeping by islands is the soft model's: off by default, and refused with the paper's model,
-/// naming the field.
+/// Sleeping by islands is the soft model's: on by default (since 2026-12-06, issue 40), off
+/// when the scene says so, and refused with the paper's model, naming the field.
 #[test]
-fn sleep_islands_is_off_by_default_and_needs_the_soft_model() {
+fn sleep_islands_is_the_soft_models_default_and_needs_the_soft_model() {
     let group = "count = 5\nradius = 0.3";
-    assert!(!accepted(&scene(10.0, "", group)).settings.sleep_islands);
+    assert!(accepted(&scene(10.0, "", group)).settings.sleep_islands);
     assert!(
-        accepted(&scene(10.0, "sleep_islands = true", group))
+        !accepted(&scene(10.0, "sleep_islands = false", group))
             .settings
             .sleep_islands
     );

@@ -607,6 +607,7 @@ mod tests {
                     rolling_resistance: if i % 2 == 0 { f(0.0, 0.3) } else { 0.0 },
                     lever: f(0.1, 0.3),
                     slop: if i % 3 == 0 { 0.005 } else { 0.0 },
+                    star: i % 3 == 0,
                     rolling_mass: f(0.01, 0.1),
                     rolling_impulse: f(-1e-3, 1e-3),
                     softness: Softness::new(30.0, 10.0, 1.0 / 240.0),
