@@ -277,6 +277,33 @@ fn a_closed_pipe_ends_the_command_quietly() {
         assert!(err.is_empty(), "{args:?}: not quiet: {err}");
         assert_eq!(status.code(), Some(0), "{args:?}: {err}");
     }
+    // A run streaming its trajectory to a closed pipe goes on and writes its other outputs.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.toml", TINY_CIRCLES);
+    let dump = dir.path().join("d.json");
+    let mut child = supergrain()
+        .args([
+            "run",
+            p(&scene),
+            "--steps",
+            "50",
+            "--trajectory",
+            "-",
+            "--dump",
+            p(&dump),
+            "-q",
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run supergrain");
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let err = stderr(&o);
+    assert!(err.is_empty(), "not quiet: {err}");
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(dump.is_file(), "no dump written");
 }
 
 #[test]
