@@ -1,7 +1,7 @@
 //! Every dump the program writes resumes and renders (issue 40, section 4, "the run's own dumps
 //! refused"): a heap of 60 stars poured to rest, `--dump s.json`, exited 0, and then `run
 //! --resume s.json` and `render s.json` both refused it ("particles 33 and 38 overlap 1.463e-1
-//! deep ... not a state the solver leaves", a pair 0.02 deep); needles likewise.
+//! deep ... not a state the solver leaves", a pair 0.012 deep); needles likewise.
 
 use std::path::Path;
 

@@ -45,7 +45,7 @@ pub const DEPTH_FRACTION: f64 = 0.5;
 /// The vectors themselves are no depths: `A1 -> B2` follows the gradient of B at `A1` to where
 /// it leaves B, and for a star that can be across a spike. In a 60-star heap at rest a vector of
 /// 0.146 (more than half the thinner star's semi-axis, so the dump was refused) measured a pair
-/// 0.005-0.012 deep.
+/// 0.012 deep by this measure (0.005-0.012 by the issue's).
 pub fn overlap_depth(a: &Body, b: &Body, p: &Penetration, tol: f64) -> f64 {
     let a_in_b = p
         .a_push
