@@ -71,10 +71,8 @@ fn every_checkpoint_of_a_heap_of_stars_resumes() {
 fn every_checkpoint_of_a_heap_of_needles_resumes() {
     // At the step the soft model's check allows them (the default, 0.01, lets a needle falling
     // from the top pass through another: 4.3 x its smallest semi-axis a step).
-    let asleep = every_checkpoint_resumes(
-        pour("step = 0.004\nsleep_islands = false", NEEDLES),
-        1200,
-    );
+    let asleep =
+        every_checkpoint_resumes(pour("step = 0.004\nsleep_islands = false", NEEDLES), 1200);
     assert!(asleep > 50, "only {asleep} of 60 needles asleep");
 }
 

@@ -316,3 +316,24 @@ fn a_material_key_the_papers_model_ignores_is_refused_naming_it() {
         accepted(&in_group.replace("model = \"paper\"", "model = \"soft\""));
     }
 }
+
+/// Issue 40: `slop = 1` was accepted, and contacts held the grains a unit deep in each other and
+/// in the floor. A slop deeper than half the smallest semi-axis is refused, naming the key, in
+/// scenes and in dumps (the paper model's slop and the soft model's alike).
+#[test]
+fn a_slop_deeper_than_half_a_grain_is_refused() {
+    for s in ["1", "0.16"] {
+        let e = refused(&scene(&format!("slop = {s}"), ""));
+        assert!(
+            e.contains("slop") && e.contains("smallest semi-axis"),
+            "{s}: {e}"
+        );
+    }
+    accepted(&scene("slop = 0.15", ""));
+    let mut d = soft_dump();
+    d["solver"]["soft"]["slop"] = json!(1.0);
+    assert!(refused_dump(&d).contains("slop"));
+    let mut d = soft_dump();
+    d["solver"]["slop"] = json!(1.0);
+    assert!(refused_dump(&d).contains("slop"));
+}

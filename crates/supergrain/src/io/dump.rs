@@ -756,6 +756,7 @@ impl Dump {
             .map(|b| b.shape.min_semi_axis())
             .fold(pending.smallest_semi_axis(), f64::min);
         checks::check_sleep(&settings, smallest).map_err(DumpError::Unworkable)?;
+        checks::check_slop(&settings, smallest).map_err(DumpError::Unworkable)?;
         if smallest.is_finite() {
             checks::check_time_step(&settings, top - w.floor, smallest)
                 .map_err(DumpError::Unworkable)?;

@@ -208,6 +208,36 @@ pub fn check_sleep(settings: &Settings, smallest: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// The deepest overlap a `slop` may ask contacts to keep, as a fraction of the smallest
+/// semi-axis: half a thin grain's half-thickness.
+pub const SLOP_FRACTION: f64 = 0.5;
+
+/// Refuses a `slop` (the paper model's, or the soft model's) deeper than [`SLOP_FRACTION`] of
+/// `smallest` (the smallest semi-axis): with `slop = 1` a heap's contacts were held a unit deep
+/// in each other and grains sank through the floor (issue 40).
+pub fn check_slop(settings: &Settings, smallest: f64) -> Result<(), String> {
+    let limit = SLOP_FRACTION * smallest;
+    for (name, slop) in [("slop", settings.slop), ("slop", settings.soft.slop)] {
+        if !(slop.is_finite() && slop >= 0.0) {
+            return Err(format!(
+                "solver: {name} must be a finite number >= 0, got {}",
+                short(slop)
+            ));
+        }
+        if slop > limit {
+            return Err(format!(
+                "solver: {name} = {} is deeper than {SLOP_FRACTION} x the smallest semi-axis of \
+                 the grains ({}): contacts would hold grains that deep in each other and in the \
+                 walls; use {name} <= {} (the soft model's default is 0)",
+                short(slop),
+                short(smallest),
+                short(limit)
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The masses and moments of inertia the soft step works with: a product or quotient of up to
 /// three of them stays a finite, normal number (`1e100^3` is far below `f64::MAX`).
 pub const MASS_RANGE: std::ops::RangeInclusive<f64> = 1e-100..=1e100;

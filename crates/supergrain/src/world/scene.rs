@@ -561,6 +561,7 @@ impl Scene {
         checks::check_capacity(&self.walls, self.top, self.grain_count(), area)
             .map_err(SceneError::Unworkable)?;
         checks::check_sleep(&self.settings, smallest).map_err(SceneError::Unworkable)?;
+        checks::check_slop(&self.settings, smallest).map_err(SceneError::Unworkable)?;
         if smallest.is_finite() {
             checks::check_time_step(&self.settings, self.top - self.walls.floor, smallest)
                 .map_err(SceneError::Unworkable)?;
