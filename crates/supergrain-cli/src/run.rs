@@ -191,6 +191,17 @@ impl Failures {
 pub fn run(args: Args) -> Result<ExitCode> {
     let (mut world, default_steps) = load(&args)?;
     let steps = args.steps.unwrap_or(default_steps);
+    // A run that would pass step 2^53 has no exact step time past it (a dump of it could not
+    // be resumed): refused before any work.
+    let last = supergrain::world::checks::MAX_STEP;
+    if world.step.checked_add(steps).is_none_or(|end| end > last) {
+        bail!(
+            "--steps {steps} from step {} goes past step {last} (2^53), beyond which step times \
+             are not exact; run at most {} steps",
+            world.step,
+            last.saturating_sub(world.step)
+        );
+    }
 
     // Every output is planned before any work, so a bad path, or two outputs on one path, costs
     // nothing; the files written at the end are only opened then.

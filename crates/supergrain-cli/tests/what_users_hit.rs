@@ -553,3 +553,51 @@ fn the_docs_time_the_commands_as_they_run_today() {
         .unwrap();
     assert!(run.contains("soft"), "{run}");
 }
+
+/// A resumed run that would go past step 2^53 (no exact step time beyond it, and a dump of it
+/// could not be resumed) is refused before any work, saying how many steps it may run; the dump
+/// it was given is left alone.
+#[test]
+fn a_run_past_step_two_to_the_53_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(dir.path(), "s.toml", TINY_CIRCLES);
+    let dump = dir.path().join("state.json");
+    ok(&sg(&[
+        "run",
+        p(&scene),
+        "--steps",
+        "10",
+        "--dump",
+        p(&dump),
+    ]));
+    let mut d: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&dump).unwrap()).unwrap();
+    d["step"] = serde_json::json!((1u64 << 53) - 5);
+    std::fs::write(&dump, serde_json::to_string(&d).unwrap()).unwrap();
+    let before = std::fs::read(&dump).unwrap();
+    let later = dir.path().join("later.json");
+    let err = failed(&sg(&[
+        "run",
+        "--resume",
+        p(&dump),
+        "--steps",
+        "10",
+        "--dump",
+        p(&later),
+    ]));
+    assert!(
+        err.contains("2^53") && err.contains("at most 5 steps"),
+        "{err}"
+    );
+    assert!(!later.exists(), "nothing written");
+    assert_eq!(std::fs::read(&dump).unwrap(), before);
+    ok(&sg(&[
+        "run",
+        "--resume",
+        p(&dump),
+        "--steps",
+        "5",
+        "--dump",
+        p(&later),
+    ]));
+}
