@@ -22,8 +22,11 @@ pub enum SceneArg {
     /// The 10,000-grain pour until rest (or --max-steps).
     #[value(name = "pour-10k")]
     Pour10k,
-    /// All three timed scenes (not repose).
+    /// All three timed scenes (not bidisperse or repose).
     All,
+    /// Issue 40's pour of 500 + 500 disks of radii 0.25 and 0.35 (friction 0.6, a box 20 wide)
+    /// until rest: how deep the rested disks overlap in each engine, measured alike.
+    Bidisperse,
     /// The angle of repose of disks with rolling resistance poured onto a floor, for each
     /// --frictions: supergrain's soft step next to Box2D (a measure of the physics, not of time).
     Repose,
@@ -45,6 +48,8 @@ pub enum EngineArg {
     Supergrain,
     /// supergrain with the rigid-body soft step (`model = "soft"`, Box2D's materials).
     Soft,
+    /// The soft step with `max_overlap = 0.01` added to the pour's `[solver]` (pours only).
+    SoftStiff,
     Box2d,
     Rapier,
 }
@@ -54,11 +59,11 @@ pub struct Args {
     /// Which scene.
     #[arg(long, value_enum, default_value = "heap")]
     scene: SceneArg,
-    /// Circles alone or the mix of pebbles, rice and blocks.
+    /// Circles alone or the mix of pebbles, rice and blocks (bidisperse: circles alone).
     #[arg(long, value_enum, default_value = "both")]
     shapes: ShapesArg,
-    /// Engines, each run in turn [default: supergrain,soft,box2d,rapier; repose: soft,box2d,
-    /// the two with rolling resistance].
+    /// Engines, each run in turn [default: supergrain,soft,box2d,rapier; bidisperse:
+    /// soft,soft-stiff,box2d,rapier; repose: soft,box2d, the two with rolling resistance].
     #[arg(long, value_enum, value_delimiter = ',')]
     engines: Option<Vec<EngineArg>>,
     /// Heap: timed steps per repetition.
@@ -141,6 +146,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             .map(|e| match e {
                 EngineArg::Supergrain => Engine::Supergrain,
                 EngineArg::Soft => Engine::Soft,
+                EngineArg::SoftStiff => Engine::SoftStiff,
                 EngineArg::Box2d => Engine::Box2d,
                 EngineArg::Rapier => Engine::Rapier,
             })
@@ -161,14 +167,28 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             SceneArg::Pour1000 => vec![SceneKind::Pour1000],
             SceneArg::Pour10k => vec![SceneKind::Pour10k],
             SceneArg::All => SceneKind::ALL.to_vec(),
+            SceneArg::Bidisperse => vec![SceneKind::Bidisperse],
             SceneArg::Repose => unreachable!("handled above"),
         },
-        shapes: match args.shapes {
-            ShapesArg::Circles => vec![Shapes::Circles],
-            ShapesArg::Mix => vec![Shapes::Mix],
-            ShapesArg::Both => vec![Shapes::Circles, Shapes::Mix],
+        shapes: match (args.scene, args.shapes) {
+            (SceneArg::Bidisperse, ShapesArg::Mix) => {
+                anyhow::bail!("--shapes mix: the bidisperse pour is of circles alone")
+            }
+            (SceneArg::Bidisperse, _) | (_, ShapesArg::Circles) => vec![Shapes::Circles],
+            (_, ShapesArg::Mix) => vec![Shapes::Mix],
+            (_, ShapesArg::Both) => vec![Shapes::Circles, Shapes::Mix],
         },
-        engines: engines.unwrap_or_else(|| Engine::ALL.to_vec()),
+        engines: engines.unwrap_or_else(|| match args.scene {
+            SceneArg::Bidisperse => {
+                vec![
+                    Engine::Soft,
+                    Engine::SoftStiff,
+                    Engine::Box2d,
+                    Engine::Rapier,
+                ]
+            }
+            _ => Engine::ALL.to_vec(),
+        }),
         threads: threads.map_or(DEFAULT_THREADS.to_vec(), |n| vec![usize::from(n)]),
         warmup: args.warmup,
         steps: args.steps,
@@ -186,11 +206,18 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
         let rows: Vec<_> = cases
             .iter()
             .map(|c| {
-                let (ms, runs, seconds, steps, at_rest) = match &c.result {
-                    Measured::Heap(h) => (Some(h.ms_per_step), Some(&h.runs), None, None, None),
-                    Measured::Pour(p) => {
-                        (None, None, Some(p.seconds), Some(p.steps), Some(p.at_rest))
+                let (ms, runs, seconds, steps, at_rest, overlap) = match &c.result {
+                    Measured::Heap(h) => {
+                        (Some(h.ms_per_step), Some(&h.runs), None, None, None, None)
                     }
+                    Measured::Pour(p) => (
+                        None,
+                        None,
+                        Some(p.seconds),
+                        Some(p.steps),
+                        Some(p.at_rest),
+                        p.overlap,
+                    ),
                 };
                 let seeds: Option<Vec<_>> = (!c.seeds.is_empty()).then(|| {
                     c.seeds
@@ -198,7 +225,8 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                         .map(|(seed, t)| {
                             serde_json::json!({
                                 "seed": seed, "seconds": t.seconds, "steps": t.steps,
-                                "at_rest": t.at_rest,
+                                "at_rest": t.at_rest, "overlap_mean": t.overlap.map(|o| o.mean),
+                                "overlap_largest": t.overlap.map(|o| o.largest),
                             })
                         })
                         .collect()
@@ -207,7 +235,12 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                     "scene": c.scene.name(), "shapes": c.shapes.name(), "engine": c.engine.name(),
                     "threads": c.threads, "grains": c.grains, "ms_per_step": ms,
                     "runs_ms_per_step": runs, "seconds": seconds, "steps": steps,
-                    "at_rest": at_rest, "x_box2d": c.x_box2d, "seeds": seeds,
+                    "at_rest": at_rest, "x_box2d": c.x_box2d,
+                    "overlap_mean": overlap.map(|o| o.mean),
+                    "overlap_percent_of_diameter": overlap.map(|o| o.percent_of_diameter()),
+                    "overlap_largest": overlap.map(|o| o.largest),
+                    "overlap_contacts": overlap.map(|o| o.contacts),
+                    "seeds": seeds,
                 })
             })
             .collect();
@@ -237,7 +270,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "{:<10} {:<8} {:<11} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8}",
+        "{:<10} {:<8} {:<21} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8} {:>9} {:>7} {:>8}",
         "scene",
         "shapes",
         "engine",
@@ -247,21 +280,31 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
         "seconds",
         "steps",
         "at rest",
-        "x box2d"
+        "x box2d",
+        "overlap",
+        "% diam",
+        "largest"
     );
     let cell = |v: Option<String>| v.unwrap_or_else(|| "-".into());
     for c in &cases {
-        let (ms, seconds, steps, rest) = match &c.result {
-            Measured::Heap(h) => (Some(format!("{:.3}", h.ms_per_step)), None, None, None),
+        let (ms, seconds, steps, rest, overlap) = match &c.result {
+            Measured::Heap(h) => (
+                Some(format!("{:.3}", h.ms_per_step)),
+                None,
+                None,
+                None,
+                None,
+            ),
             Measured::Pour(p) => (
                 None,
                 Some(format!("{:.2}", p.seconds)),
                 Some(p.steps.to_string()),
                 Some(if p.at_rest { "yes" } else { "no" }.to_string()),
+                p.overlap,
             ),
         };
         outln!(
-            "{:<10} {:<8} {:<11} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8}",
+            "{:<10} {:<8} {:<21} {:>7} {:>7} {:>10} {:>10} {:>7} {:>8} {:>8} {:>9} {:>7} {:>8}",
             c.scene.name(),
             c.shapes.name(),
             c.engine.name(),
@@ -271,7 +314,10 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             cell(seconds),
             cell(steps),
             cell(rest),
-            cell(c.x_box2d.map(|x| format!("{x:.2}")))
+            cell(c.x_box2d.map(|x| format!("{x:.2}"))),
+            cell(overlap.map(|o| format!("{:.5}", o.mean))),
+            cell(overlap.map(|o| format!("{:.3}%", o.percent_of_diameter()))),
+            cell(overlap.map(|o| format!("{:.4}", o.largest)))
         );
     }
     let o = &options;
@@ -300,6 +346,26 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                 )
             }
         );
+        if cases
+            .iter()
+            .any(|c| matches!(&c.result, Measured::Pour(p) if p.overlap.is_some()))
+        {
+            outln!(
+                "overlap: where the pour ended, the mean of every overlap of two disks (r_a + r_b \
+                 - |c_a - c_b| > 0) or of a disk and a wall or the floor, exact disk geometry on \
+                 the grains' poses, the same code for every engine; % diam: of the grains' mean \
+                 diameter; largest: the deepest{}",
+                if o.engines.contains(&Engine::SoftStiff) {
+                    format!(
+                        "; {}: max_overlap = {} in [solver]",
+                        Engine::SoftStiff.name(),
+                        supergrain_peers::supergrain::MAX_OVERLAP
+                    )
+                } else {
+                    String::new()
+                }
+            );
+        }
         // Each seed's pour, where there are several.
         for c in cases.iter().filter(|c| c.seeds.len() > 1) {
             let runs: Vec<String> = c

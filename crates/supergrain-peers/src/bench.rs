@@ -23,6 +23,8 @@ pub const POUR_1000_MIX: &str = include_str!("../data/pour-1000-mix.toml");
 pub const POUR_1000_CIRCLES: &str = include_str!("../data/pour-1000-circles.toml");
 pub const POUR_10K_MIX: &str = include_str!("../../../examples/scenes/pour-10k.toml");
 pub const POUR_10K_CIRCLES: &str = include_str!("../data/pour-10k-circles.toml");
+/// Issue 40's pour of 500 + 500 disks of radii 0.25 and 0.35 (the file says more).
+pub const POUR_BIDISPERSE: &str = include_str!("../data/pour-bidisperse.toml");
 
 /// The scenes of Box2D's benchmark app's kind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,6 +35,9 @@ pub enum SceneKind {
     Pour1000,
     /// The 10,000-grain pour until rest (or the step cap).
     Pour10k,
+    /// Issue 40's bidisperse pour of 1,000 disks until rest, for how deep they overlap at rest
+    /// (circles alone).
+    Bidisperse,
 }
 
 impl SceneKind {
@@ -43,6 +48,7 @@ impl SceneKind {
             SceneKind::Heap => "heap",
             SceneKind::Pour1000 => "pour-1000",
             SceneKind::Pour10k => "pour-10k",
+            SceneKind::Bidisperse => "bidisperse",
         }
     }
 }
@@ -87,6 +93,7 @@ impl Engine {
         match self {
             Engine::Supergrain => crate::supergrain::NAME,
             Engine::Soft => crate::supergrain::SOFT,
+            Engine::SoftStiff => crate::supergrain::SOFT_STIFF,
             Engine::Box2d => Box2d::NAME,
             Engine::Rapier => Rapier::NAME,
         }
@@ -184,14 +191,42 @@ fn heap_world(shapes: Shapes) -> Result<World, Error> {
         .map_err(|e| Error(format!("the built-in heap: {e}")))
 }
 
-fn pour_scene(kind: SceneKind, shapes: Shapes) -> Result<SupergrainScene, Error> {
-    let text = match (kind, shapes) {
+fn pour_text(kind: SceneKind, shapes: Shapes) -> Result<&'static str, Error> {
+    Ok(match (kind, shapes) {
+        (SceneKind::Bidisperse, Shapes::Circles) => POUR_BIDISPERSE,
+        (SceneKind::Bidisperse, Shapes::Mix) => {
+            return Err(Error("the bidisperse pour is of circles alone".into()));
+        }
         (SceneKind::Pour10k, Shapes::Circles) => POUR_10K_CIRCLES,
         (SceneKind::Pour10k, Shapes::Mix) => POUR_10K_MIX,
         (_, Shapes::Circles) => POUR_1000_CIRCLES,
         (_, Shapes::Mix) => POUR_1000_MIX,
-    };
-    SupergrainScene::from_toml(text).map_err(|e| Error(format!("the built-in scene: {e}")))
+    })
+}
+
+fn pour_scene(kind: SceneKind, shapes: Shapes) -> Result<SupergrainScene, Error> {
+    SupergrainScene::from_toml(pour_text(kind, shapes)?)
+        .map_err(|e| Error(format!("the built-in scene: {e}")))
+}
+
+/// The built-in scene with `max_overlap =` [`MAX_OVERLAP`](crate::supergrain::MAX_OVERLAP)
+/// added to its `[solver]`, read as a user's file is (so the stiffness and substeps are the
+/// ones that setting documents), with `seed`.
+pub fn stiff_pour(kind: SceneKind, shapes: Shapes, seed: u64) -> Result<SupergrainScene, Error> {
+    let text = pour_text(kind, shapes)?;
+    let line = format!(
+        "[solver]\nmax_overlap = {}\n",
+        crate::supergrain::MAX_OVERLAP
+    );
+    if !text.contains("[solver]\n") {
+        return Err(Error(
+            "the built-in scene has no [solver] for max_overlap".into(),
+        ));
+    }
+    let mut scene = SupergrainScene::from_toml(&text.replacen("[solver]\n", &line, 1))
+        .map_err(|e| Error(format!("the built-in scene with max_overlap: {e}")))?;
+    scene.seed = seed;
+    Ok(crate::supergrain::stiff_scene(&scene))
 }
 
 /// The neutral heap of a built-in settled heap.
@@ -273,6 +308,13 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                                 o.steps,
                                 o.reps,
                             ),
+                            Engine::SoftStiff => {
+                                return Err(Error(format!(
+                                    "{}: the heap is a dump, with no scene to set max_overlap \
+                                     in; it runs the pours",
+                                    engine.name()
+                                )));
+                            }
                             Engine::Box2d => {
                                 run::heap::<Box2d>(scene, threads, o.warmup, o.steps, o.reps)?
                             }
@@ -295,6 +337,11 @@ pub fn cases(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Ca
                                     ),
                                     Engine::Soft => crate::supergrain::pour(
                                         &crate::supergrain::soft_scene(scene),
+                                        threads,
+                                        &o.rest,
+                                    ),
+                                    Engine::SoftStiff => crate::supergrain::pour(
+                                        &stiff_pour(kind, shapes, scene.seed)?,
                                         threads,
                                         &o.rest,
                                     ),

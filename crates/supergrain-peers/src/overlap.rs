@@ -1,8 +1,11 @@
 //! Whether two peer shapes overlap: the spawner's "is this place free" for the peers, on their own
 //! shapes, engine-neutral. Each shape is a convex core (a point, a segment, a box) swept by a
-//! disk: two overlap when their cores come closer than the sum of the radii.
+//! disk: two overlap when their cores come closer than the sum of the radii. And how deep the
+//! disks of a settled heap overlap ([`resting`]), the same measure for every engine.
 
-use crate::scene::{Grain, Shape};
+use supergrain::measure::{Disk, packing};
+
+use crate::scene::{Grain, Shape, Walls};
 
 type P = [f64; 2];
 
@@ -113,4 +116,56 @@ pub fn overlap(a: &Grain, b: &Grain) -> bool {
     }
     let ((ca, ra), (cb, rb)) = (core(a), core(b));
     core_distance(&ca, &cb) < ra + rb
+}
+
+/// How deep the contacts of a heap of disks overlap, measured on the grains' poses alone.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resting {
+    /// Overlapping pairs and grains overlapping a wall or the floor.
+    pub contacts: usize,
+    /// The mean and the largest overlap of those contacts (0 when there are none).
+    pub mean: f64,
+    pub largest: f64,
+    /// The grains' mean diameter, the scale the mean is read against.
+    pub mean_diameter: f64,
+}
+
+impl Resting {
+    /// The mean overlap in percent of the mean diameter.
+    pub fn percent_of_diameter(&self) -> f64 {
+        100.0 * self.mean / self.mean_diameter
+    }
+}
+
+/// The overlaps of a heap of disks by exact disk geometry, whichever engine left it: each pair
+/// with `r_a + r_b - |c_a - c_b| > 0` ([`packing::overlaps`], which shares no code with any
+/// solver), and each disk with `r` beyond its distance to the floor or a wall. `None` when a
+/// grain is not a circle (the other shapes have no exact measure here) or there is none.
+pub fn resting(grains: &[Grain], walls: &Walls) -> Option<Resting> {
+    let disks: Vec<Disk> = grains
+        .iter()
+        .map(|g| match g.shape {
+            Shape::Circle { radius } => Some(Disk::new(g.x, g.y, radius)),
+            _ => None,
+        })
+        .collect::<Option<_>>()?;
+    if disks.is_empty() {
+        return None;
+    }
+    let mut depths = packing::overlaps(&disks);
+    for d in &disks {
+        let (x, y) = (d.center.x, d.center.y);
+        for gap in [y - walls.floor, x - walls.left, walls.right - x] {
+            if d.radius > gap {
+                depths.push(d.radius - gap);
+            }
+        }
+    }
+    let contacts = depths.len();
+    Some(Resting {
+        contacts,
+        mean: depths.iter().sum::<f64>() / contacts.max(1) as f64,
+        largest: depths.iter().copied().fold(0.0, f64::max),
+        mean_diameter: 2.0 * disks.iter().map(|d| d.radius).sum::<f64>() / disks.len() as f64,
+    })
 }

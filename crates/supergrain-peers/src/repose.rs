@@ -191,14 +191,14 @@ pub fn run(
             let mut pile = Piled::new(Box2d::new(&scene, threads, true)?);
             repose::pour(&mut pile, pour)?
         }
-        Engine::Supergrain | Engine::Rapier => {
+        Engine::Supergrain | Engine::Rapier | Engine::SoftStiff => {
             return Err(Error(format!(
                 "{} has no {}: the repose scene runs soft and box2d",
                 engine.name(),
-                if engine == Engine::Rapier {
-                    "rolling resistance"
-                } else {
-                    "friction (the paper's projection model)"
+                match engine {
+                    Engine::Rapier => "rolling resistance",
+                    Engine::Supergrain => "friction (the paper's projection model)",
+                    _ => "scene file to set max_overlap in",
                 }
             )));
         }

@@ -1,8 +1,10 @@
 //! The two measurements, written once for every peer: a settled heap stepped with every grain
-//! awake (ms per step), and a pour from the empty box until rest (wall time and steps).
+//! awake (ms per step), and a pour from the empty box until rest (wall time, steps, and how
+//! deep the rested disks overlap).
 
 use std::time::Instant;
 
+use crate::overlap::{self, Resting};
 use crate::peer::{Error, Peer};
 use crate::scene::{Rest, RestCounter, Scene, Spawner};
 
@@ -25,19 +27,32 @@ pub struct PourTiming {
     pub seconds: f64,
     pub steps: u64,
     pub at_rest: bool,
+    /// How deep the grains overlap where the pour ended (untimed; disks only:
+    /// [`overlap::resting`]).
+    pub overlap: Option<Resting>,
 }
 
 impl PourTiming {
-    /// The pours of several seeds as one: the median wall time and the median steps (each
-    /// taken alone), at rest only if every pour was.
+    /// The pours of several seeds as one: the median wall time, steps, mean and largest
+    /// overlap (each taken alone), at rest only if every pour was.
     pub fn median_of(runs: &[PourTiming]) -> PourTiming {
         let seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
         let steps: Vec<f64> = runs.iter().map(|r| r.steps as f64).collect();
+        let overlaps: Option<Vec<Resting>> = runs.iter().map(|r| r.overlap).collect();
         PourTiming {
             grains: runs.first().map_or(0, |r| r.grains),
             seconds: median(&seconds),
             steps: median(&steps).round() as u64,
             at_rest: runs.iter().all(|r| r.at_rest),
+            overlap: overlaps.filter(|o| !o.is_empty()).map(|o| {
+                let of = |f: fn(&Resting) -> f64| median(&o.iter().map(f).collect::<Vec<_>>());
+                Resting {
+                    contacts: of(|r| r.contacts as f64).round() as usize,
+                    mean: of(|r| r.mean),
+                    largest: of(|r| r.largest),
+                    mean_diameter: of(|r| r.mean_diameter),
+                }
+            }),
         }
     }
 }
@@ -103,10 +118,13 @@ pub fn pour<P: Peer>(scene: &Scene, threads: usize, rest: &Rest) -> Result<PourT
         steps += 1;
         at_rest = calm.update(rest, spawner.is_empty(), peer.fastest()?);
     }
+    let seconds = start.elapsed().as_secs_f64();
+    peer.grains(&mut placed)?;
     Ok(PourTiming {
         grains: peer.len(),
-        seconds: start.elapsed().as_secs_f64(),
+        seconds,
         steps,
         at_rest,
+        overlap: overlap::resting(&placed, &scene.walls),
     })
 }

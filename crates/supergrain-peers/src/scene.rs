@@ -173,6 +173,16 @@ pub struct Walls {
     pub floor: f64,
 }
 
+impl From<supergrain::solver::Walls> for Walls {
+    fn from(w: supergrain::solver::Walls) -> Walls {
+        Walls {
+            left: w.left,
+            right: w.right,
+            floor: w.floor,
+        }
+    }
+}
+
 /// What every engine is given.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
@@ -253,13 +263,8 @@ impl Scene {
     /// The box, gravity and time step of a supergrain world, and the peers' materials
     /// ([`FRICTION`], ...), with no grain.
     fn empty(world: &World) -> Scene {
-        let w = world.walls;
         Scene {
-            walls: Walls {
-                left: w.left,
-                right: w.right,
-                floor: w.floor,
-            },
+            walls: world.walls.into(),
             gravity: world.settings.gravity,
             time_step: world.settings.step,
             substeps: SUBSTEPS,

@@ -11,11 +11,18 @@ use supergrain::solver::strips::WIDTH_IN_RADII;
 use supergrain::solver::{Body, Model, Settings};
 use supergrain::world::{Scene, SpawnRule, World};
 
+use crate::overlap::{self, Resting};
 use crate::run::{HeapTiming, PourTiming, median};
-use crate::scene::{Rest, RestCounter};
+use crate::scene::{Grain, Rest, RestCounter, Shape};
 
 pub const NAME: &str = "supergrain";
 pub const SOFT: &str = "supergrain-soft";
+pub const SOFT_STIFF: &str = "supergrain-soft-stiff";
+
+/// The `max_overlap` (in `[solver]`, a fraction of the thinnest grain's thickness) that
+/// [`SOFT_STIFF`] asks for: the documented setting for issue 40's bar (docs/physics.md,
+/// "Overlap").
+pub const MAX_OVERLAP: f64 = 0.01;
 
 /// The soft step's settings in place of the paper's: Box2D's defaults (4 substeps, friction 0.6,
 /// density 1, no damping), the same time step, and the soft model's sleep radius (the built-in
@@ -76,6 +83,14 @@ pub fn paper_scene(scene: &Scene) -> Scene {
     // paper's radius replaces the soft one (a radius a scene set would be replaced too).
     s.settings.sleep_radius = Settings::default().sleep_radius;
     s.spawn_rule = SpawnRule::Queue;
+    s
+}
+
+/// [`soft_scene`] with the contact stiffness and substeps of the scene's own `[solver]` (as
+/// its `max_overlap` set them) kept.
+pub fn stiff_scene(scene: &Scene) -> Scene {
+    let mut s = soft_scene(scene);
+    s.settings.soft = scene.settings.soft;
     s
 }
 
@@ -161,6 +176,24 @@ pub fn pour(scene: &Scene, threads: usize, rest: &Rest) -> PourTiming {
             seconds: start.elapsed().as_secs_f64(),
             steps,
             at_rest,
+            overlap: resting(&world),
         }
     })
+}
+
+/// [`overlap::resting`] of a world's grains, as the peers' are measured.
+fn resting(world: &World) -> Option<Resting> {
+    let grains: Vec<Grain> = world
+        .bodies
+        .iter()
+        .map(|b| {
+            Some(Grain {
+                shape: Shape::of(&b.shape).ok()?,
+                x: b.center.x,
+                y: b.center.y,
+                angle: b.angle,
+            })
+        })
+        .collect::<Option<_>>()?;
+    overlap::resting(&grains, &world.walls.into())
 }

@@ -7,7 +7,7 @@ use std::f64::consts::{PI, SQRT_2};
 use supergrain::shape::Superellipse;
 use supergrain_peers::bench::{self, SceneKind, Shapes};
 use supergrain_peers::box2d::Box2d;
-use supergrain_peers::overlap::overlap;
+use supergrain_peers::overlap::{overlap, resting};
 use supergrain_peers::peer::Peer;
 use supergrain_peers::rapier::Rapier;
 use supergrain_peers::run;
@@ -384,6 +384,7 @@ fn pours_to_rest<P: Peer>() {
     };
     let t = run::pour::<P>(&pour, 1, &rest).expect("a pour");
     assert_eq!(t.grains, 40, "{}", P::NAME);
+    assert_eq!(t.overlap, None, "the mix has no exact measure of overlap");
     assert!(
         t.at_rest,
         "{}: not at rest after {} steps",
@@ -463,6 +464,7 @@ fn the_seeds_pours_give_their_medians() {
         seconds,
         steps,
         at_rest,
+        overlap: None,
     };
     let three = [t(3.0, 1700, true), t(1.0, 3100, true), t(2.0, 1600, true)];
     let m = run::PourTiming::median_of(&three);
@@ -478,4 +480,45 @@ fn the_seeds_pours_give_their_medians() {
     ];
     let m = run::PourTiming::median_of(&four);
     assert_eq!((m.seconds, m.steps, m.at_rest), (2.5, 2500, false));
+}
+
+/// The overlap of a heap, by exact disk geometry: pairs closer than the sum of their radii, and
+/// disks past the floor or a wall, each counted once; touching is no overlap, and any grain not
+/// a circle leaves the heap unmeasured.
+#[test]
+fn overlaps_are_measured_on_disks_and_walls() {
+    let walls = empty_box().walls;
+    let heap = [
+        disk(0.0, 0.49, 0.5),  // 0.01 into the floor
+        disk(0.99, 2.0, 0.5),  // touches nothing
+        disk(-4.53, 3.0, 0.5), // 0.03 into the left wall
+        disk(-3.6, 3.0, 0.5),  // 0.07 into the one beside it
+        disk(4.5, 3.0, 0.5),   // touching the right wall
+    ];
+    let o = resting(&heap, &walls).expect("disks");
+    assert_eq!(o.contacts, 3);
+    assert!((o.mean - 0.11 / 3.0).abs() < 1e-12, "{o:?}");
+    assert!((o.largest - 0.07).abs() < 1e-12, "{o:?}");
+    assert_eq!(o.mean_diameter, 1.0);
+    assert!((o.percent_of_diameter() - 11.0 / 3.0).abs() < 1e-9);
+    let mut mixed = heap.to_vec();
+    mixed[1].shape = Shape::Capsule {
+        half_length: 0.2,
+        radius: 0.5,
+        along_y: false,
+    };
+    assert_eq!(resting(&mixed, &walls), None);
+}
+
+/// `supergrain-soft-stiff` reads the bidisperse pour with `max_overlap = 0.01` as a scene file
+/// is read: stiffer contacts and more substeps than the defaults, the same grains.
+#[test]
+fn the_stiff_pour_is_the_scene_with_max_overlap() {
+    let (scene, neutral) = bench::pour(SceneKind::Bidisperse, Shapes::Circles, None).unwrap();
+    let stiff = bench::stiff_pour(SceneKind::Bidisperse, Shapes::Circles, scene.seed).unwrap();
+    let (soft, stiff) = (scene.settings.soft, stiff.settings.soft);
+    assert!(stiff.contact_hertz > 1.5 * soft.contact_hertz, "{stiff:?}");
+    assert!(stiff.substeps > soft.substeps, "{stiff:?}");
+    assert_eq!(neutral.grain_count(), 1000);
+    assert!(bench::pour(SceneKind::Bidisperse, Shapes::Mix, None).is_err());
 }
