@@ -76,6 +76,10 @@ pub enum Engine {
     /// supergrain with the soft step (`model = "soft"`): Box2D's defaults for materials
     /// (friction 0.6, density 1), 4 substeps, the same time step.
     Soft,
+    /// The soft step as the scene asks for `max_overlap =`
+    /// [`MAX_OVERLAP`](crate::supergrain::MAX_OVERLAP) in `[solver]`: the stiffness and
+    /// substeps follow from it (pours only).
+    SoftStiff,
     Box2d,
     Rapier,
 }

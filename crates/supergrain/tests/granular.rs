@@ -215,7 +215,7 @@ fn overlap_and_packing(disks: &[Disk]) -> (f64, f64, f64) {
 /// the stiffer contacts were not allowed: two disks that met within a step were pushed apart
 /// from an overlap no constraint had held, which pumped energy in (at 100 Hz the frictionless
 /// heap kept a kinetic energy of 10-20 for good). With the slop gone, speculative contacts for
-/// disks and 60 Hz, it rests at step 1,502, 0.852 (0.847 as disks that touch).
+/// disks and 60 Hz, it rests at step 1,448, 0.851 (0.846 as disks that touch).
 ///
 /// Can fail (checked when this was written): with the slop back at 0.005, or without the
 /// speculative contacts, it is not at rest by step 6,000.
@@ -237,9 +237,9 @@ fn a_frictionless_bidisperse_pour_rests_and_packs_near_random_close_packing() {
 /// `max_overlap = 0.01`, has a mean overlap under 0.2% of the mean diameter (0.6), its packing
 /// fraction as the areas are within 0.005 of the one as disks that touch, and its deepest
 /// overlap under 1% of the thinner grain's thickness; with the defaults the mean stays under 1%.
-/// Measured when this was written: 0.089% of the mean diameter (the deepest 0.0038, 0.77% of
-/// a small disk), fractions 0.8287 and 0.8273; the defaults 0.27%. Until 2026-12-06: 1.69%,
-/// 0.859 and 0.831.
+/// Measured when this was written (sleeping by islands): 0.12% of the mean diameter (the
+/// deepest 0.0040, 0.81% of a small disk), fractions 0.8309 and 0.8289; the defaults 0.32%.
+/// Until 2026-12-06: 1.69%, 0.859 and 0.831.
 #[test]
 fn a_heap_keeps_the_overlap_its_scene_asks_for() {
     let (disks, _) = bidisperse_pour(0.6, "max_overlap = 0.01");
