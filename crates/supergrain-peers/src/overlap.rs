@@ -153,8 +153,6 @@ pub fn resting(grains: &[Grain], walls: &Walls) -> Option<Resting> {
         return None;
     }
     let mut depths = packing::overlaps(&disks);
-    let pairs = depths.clone();
-    eprintln!("DEBUG pairs {} mean {:.5} max {:.4}", pairs.len(), pairs.iter().sum::<f64>() / pairs.len() as f64, pairs.iter().copied().fold(0.0, f64::max));
     for d in &disks {
         let (x, y) = (d.center.x, d.center.y);
         for gap in [y - walls.floor, x - walls.left, walls.right - x] {
