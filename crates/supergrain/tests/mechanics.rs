@@ -77,44 +77,44 @@ fn a_grain_released_in_the_air_falls_as_g_t2_over_2() {
     }
 }
 
+/// How high a disk of radius 0.25 dropped `h0` onto the floor (both of restitution `e`, no
+/// friction) rebounds, stepped at `step`: the top of its first rebound above the floor.
+fn rebound(e: f64, h0: f64, step: f64) -> f64 {
+    let r = 0.25;
+    let material = Material {
+        restitution: e,
+        friction: 0.0,
+        ..Material::default()
+    };
+    let mut w = world(
+        vec![grain(disk(r), 0.0, r + h0, 0.0)],
+        far_walls(),
+        vec![material],
+        Settings { step, ..soft() },
+    );
+    w.wall_material = material;
+    // Down, the bounce, and up to the top of the rebound.
+    let mut bounced = false;
+    let mut top = 0.0f64;
+    for _ in 0..2000 {
+        w.step();
+        let v = w.velocity(0).y;
+        bounced |= v > 0.0;
+        if bounced {
+            top = top.max(w.bodies[0].center.y - r);
+            if v < 0.0 {
+                break;
+            }
+        }
+    }
+    assert!(bounced, "e = {e}: no bounce");
+    top
+}
+
 #[test]
 fn a_ball_dropped_with_restitution_e_rebounds_to_e_squared_of_its_height() {
     for e in [0.5, 0.8] {
-        let r = 0.25;
-        let h0 = 2.0;
-        let material = Material {
-            restitution: e,
-            friction: 0.0,
-            ..Material::default()
-        };
-        let mut w = world(
-            vec![grain(disk(r), 0.0, r + h0, 0.0)],
-            far_walls(),
-            vec![material],
-            Settings {
-                step: 1.0 / 240.0,
-                ..soft()
-            },
-        );
-        w.wall_material = material;
-        // Down, the bounce, and up to the top of the rebound.
-        let mut bounced = false;
-        let mut top = 0.0f64;
-        for _ in 0..2000 {
-            w.step();
-            let v = w.velocity(0).y;
-            if v > 0.0 {
-                bounced = true;
-            }
-            if bounced {
-                top = top.max(w.bodies[0].center.y - r);
-                if v < 0.0 {
-                    break;
-                }
-            }
-        }
-        assert!(bounced, "e = {e}: no bounce");
-        let want = e * e * h0;
+        let (top, want) = (rebound(e, 2.0, 1.0 / 240.0), e * e * 2.0);
         assert!(
             (top - want).abs() <= 0.02 * want,
             "e = {e}: rebounded to {top}, e^2 h = {want}"
@@ -125,48 +125,19 @@ fn a_ball_dropped_with_restitution_e_rebounds_to_e_squared_of_its_height() {
 /// Issue 40's bar: at the default step (`h = 0.01`, not 1/240 as above), drops of 2 and 5
 /// units with `e` 0.5 and 0.9 rebound within 2% of `e^2 h`. The bounce takes the speed at the
 /// substep where the contact closes: taken at the step's start, as until 2026-12-06, it missed
-/// up to `g h` of the fall (contacts are found a step ahead) and rebounded 2.4-4.5% low.
+/// up to `g h` of the fall (contacts are found a step ahead) and rebounded 2.4-4.5% low (3.5%
+/// low here for `e` 0.5 and 2 units, checked).
 #[test]
 fn a_ball_dropped_at_the_default_step_rebounds_to_e_squared_of_its_height() {
     for (e, h0) in [(0.5, 2.0), (0.9, 2.0), (0.5, 5.0), (0.9, 5.0)] {
-        let r = 0.25;
-        let material = Material {
-            restitution: e,
-            friction: 0.0,
-            ..Material::default()
-        };
-        let mut w = world(
-            vec![grain(disk(r), 0.0, r + h0, 0.0)],
-            far_walls(),
-            vec![material],
-            Settings {
-                step: 0.01,
-                ..soft()
-            },
-        );
-        w.wall_material = material;
-        let mut bounced = false;
-        let mut top = 0.0f64;
-        for _ in 0..2000 {
-            w.step();
-            let v = w.velocity(0).y;
-            bounced |= v > 0.0;
-            if bounced {
-                top = top.max(w.bodies[0].center.y - r);
-                if v < 0.0 {
-                    break;
-                }
-            }
-        }
-        let want = e * e * h0;
+        let (top, want) = (rebound(e, h0, 0.01), e * e * h0);
         eprintln!(
             "e = {e}, h = {h0}: rebounded to {top:.4}, {:+.2}% of e^2 h",
             100.0 * (top / want - 1.0)
         );
         assert!(
             (top - want).abs() <= 0.02 * want,
-            "e = {e}, h = {h0}: rebounded to {top}, e^2 h = {want} ({:+.2}%)",
-            100.0 * (top / want - 1.0)
+            "e = {e}, h = {h0}: rebounded to {top}, e^2 h = {want}"
         );
     }
 }

@@ -304,15 +304,24 @@ const SPECULATIVE: f64 = 0.02;
 fn speculative(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<Manifold> {
     let d = cb - ca;
     let dist = d.norm();
-    let gap = dist - ra - rb;
-    if !(dist > 0.0 && gap < SPECULATIVE) {
+    if !(dist > 0.0) {
         return None;
     }
     let n = d * (1.0 / dist);
+    let gap = dist - ra - rb;
+    gap_contact(n, gap, ca, ra + 0.5 * gap)
+}
+
+/// The speculative contact across a `gap` (below [`SPECULATIVE`]) along `n`: one point in the
+/// gap's middle, `from + n * along`, separated by the gap (never less than 0).
+fn gap_contact(n: Vec2, gap: f64, from: Vec2, along: f64) -> Option<Manifold> {
+    if !(gap < SPECULATIVE) {
+        return None;
+    }
     Manifold::from_points(
         n,
         &[ManifoldPoint {
-            point: ca + n * (ra + 0.5 * gap),
+            point: from + n * along,
             separation: gap.max(0.0),
             id: 0,
         }],
@@ -896,34 +905,17 @@ fn find_contacts(
                     }
                     _ => contact_wall(&b.shape, pose, wall, &wall_precision),
                 };
-                if c.penetration.is_none() && disks[i] {
-                    let r = b.shape.semi_axes().x;
-                    let gap = wall.value(pose.center()) - r;
-                    if gap < SPECULATIVE {
-                        let n = wall.normal();
-                        let m = Manifold::from_points(
-                            n,
-                            &[ManifoldPoint {
-                                point: pose.center() - n * (r + 0.5 * gap),
-                                separation: gap.max(0.0),
-                                id: 0,
-                            }],
-                        )
-                        .expect("a point");
-                        found.push(anchored(
-                            STATIC,
-                            i,
-                            (i, STATIC - k),
-                            &m,
-                            bodies,
-                            predicted,
-                            turns,
-                            settings.soft.slop,
-                        ));
+                let m = match c.penetration {
+                    Some(p) => Some(wall_manifold(&b.shape, pose, wall, &p, PATCH_REACH)),
+                    None if disks[i] => {
+                        // The normal from the wall (A) into the disk (B).
+                        let r = b.shape.semi_axes().x;
+                        let (n, gap) = (wall.normal(), wall.value(pose.center()) - r);
+                        gap_contact(n, gap, pose.center(), -(r + 0.5 * gap))
                     }
-                }
-                if let Some(p) = c.penetration {
-                    let m = wall_manifold(&b.shape, pose, wall, &p, PATCH_REACH);
+                    None => None,
+                };
+                if let Some(m) = m {
                     found.push(anchored(
                         STATIC,
                         i,
