@@ -304,7 +304,8 @@ const SPECULATIVE: f64 = 0.02;
 fn speculative(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<Manifold> {
     let d = cb - ca;
     let dist = d.norm();
-    if !(dist > 0.0) {
+    // (Not `dist <= 0.0`: a NaN distance has no contact either.)
+    if dist.is_nan() || dist <= 0.0 {
         return None;
     }
     let n = d * (1.0 / dist);
@@ -315,7 +316,7 @@ fn speculative(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<Manifold> {
 /// The speculative contact across a `gap` (below [`SPECULATIVE`]) along `n`: one point in the
 /// gap's middle, `from + n * along`, separated by the gap (never less than 0).
 fn gap_contact(n: Vec2, gap: f64, from: Vec2, along: f64) -> Option<Manifold> {
-    if !(gap < SPECULATIVE) {
+    if gap.is_nan() || gap >= SPECULATIVE {
         return None;
     }
     Manifold::from_points(
