@@ -69,11 +69,12 @@ pub struct Args {
     #[arg(long, value_enum)]
     narrow_phase: Option<NarrowPhaseArg>,
     /// Override the scene's (or the dump's) sleep radius; 0 turns sleeping off and wakes every
-    /// sleeper. A radius other than the dump's starts every grain's calm count afresh. Sleeping
-    /// grain by grain (the default), a sleeper's contacts keep the forces they had when it fell
-    /// asleep, which need not balance: for `--forces` or the mean stress at equilibrium, resume
-    /// the rested dump with `--sleep-radius 0` for a few hundred steps, or sleep by islands
-    /// (`sleep_islands = true` in the scene), whose forces balance.
+    /// sleeper. A radius other than the dump's starts every grain's calm count afresh. The soft
+    /// model sleeps by islands (touching grains together, their forces put in equilibrium as
+    /// they fall asleep); grain by grain (`sleep_islands = false`, and the paper's model) a
+    /// sleeper's contacts keep the forces they had when it fell asleep, which need not balance:
+    /// for `--forces` or the mean stress at equilibrium, resume the rested dump with
+    /// `--sleep-radius 0` for a few hundred steps.
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
     sleep_radius: Option<f64>,
     /// Soft model: override the scene's (or the dump's) `carry_reach`, how far a pair of
