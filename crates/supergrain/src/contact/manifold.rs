@@ -189,11 +189,6 @@ fn separation32(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     }
 }
 
-/// Whether a shape is a star (an exponent below 1), whose contacts can have several regions.
-fn star(s: &Superellipse) -> bool {
-    s.exponents().iter().any(|&e| e < 1.0)
-}
-
 /// Samples of a star's boundary searched for the other shape's regions.
 const STAR_SAMPLES: u32 = 96;
 
@@ -297,7 +292,7 @@ fn ellipse(s: &Superellipse) -> bool {
 /// regions make points of their own), and no patch walked (neither blocky, or an ellipse among
 /// them).
 fn one_point(a: &Superellipse, b: &Superellipse) -> bool {
-    !star(a) && !star(b) && (!(blocky(a) || blocky(b)) || ellipse(a) || ellipse(b))
+    !a.is_star() && !b.is_star() && (!(blocky(a) || blocky(b)) || ellipse(a) || ellipse(b))
 }
 
 /// Whether a shape has flat-ish faces, whose contacts need the region's ends.
@@ -323,7 +318,7 @@ pub fn grain_manifold(
     let depth = (0.5 * (p.b_push.dot(normal) - p.a_push.dot(normal))).max(0.0);
     let middle = (p.a_deepest + p.b_deepest) * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
-    if star(a) || star(b) {
+    if a.is_star() || b.is_star() {
         // A sample farther than the margin from the other grain's box is farther than that
         // from the grain, and in no region: its separation, two powers and more, is not
         // computed (most of a star's samples; the regions were a third of `pour-mixed.toml`'s
@@ -380,7 +375,7 @@ pub fn wall_manifold(
     let depth = (-wall.value(p.deepest)).max(0.0);
     let middle = p.deepest + p.push * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
-    if star(shape) {
+    if shape.is_star() {
         let found = regions(shape, pose, |q: Vec2| wall.value(q), margin, None);
         m.regions(found, min_gap(shape, shape));
         return m;

@@ -85,6 +85,12 @@ impl Superellipse {
         self.exponents == [2.0, 2.0] && self.semi_axes.x == self.semi_axes.y
     }
 
+    /// A star: an exponent below 1, so the shape is not convex (its contacts can have several
+    /// regions, and are answered to a cell rather than exactly).
+    pub fn is_star(&self) -> bool {
+        self.exponents.iter().any(|&e| e < 1.0)
+    }
+
     /// The implicit function in the local frame: `h(p) - 1`, negative inside.
     pub fn local_value(&self, p: Vec2) -> f64 {
         let [ex, ey] = self.exponents;

@@ -279,8 +279,7 @@ pub struct Stopped;
 
 /// The quadtree's precision for a pair: two levels deeper when a star is in it.
 fn pair_precision(settings: &Settings, a: &Body, b: &Body) -> Precision {
-    let star = |b: &Body| b.shape.exponents().iter().any(|&e| e < 1.0);
-    if star(a) || star(b) {
+    if a.shape.is_star() || b.shape.is_star() {
         settings.star_precision()
     } else {
         settings.precision

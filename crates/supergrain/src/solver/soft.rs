@@ -201,8 +201,8 @@ pub struct Load {
     /// The mass of all the grains, and the width they are spread over.
     pub mass: f64,
     pub width: f64,
-    /// The thinnest grain's thickness (twice its smallest semi-axis) and mass.
-    pub thickness: f64,
+    /// The mass of the thinnest grain (the one of smallest thickness, twice its smallest
+    /// semi-axis).
     pub thin_mass: f64,
     pub gravity: f64,
 }
@@ -297,9 +297,9 @@ const STAR_HERTZ: f64 = 30.0;
 /// contact, with its positive separation: Box2D's speculative distance (`PATCH_REACH`).
 const SPECULATIVE: f64 = 0.02;
 
-/// A speculative contact between two disks (or a disk and a wall, `rb` 0 and `cb` its
-/// point) whose gap at the predicted poses is below [`SPECULATIVE`]: one point in the middle
-/// of the gap, the gap its separation. It is no claim of overlap (its separation is not
+/// A speculative contact between two disks whose gap at the predicted poses is below
+/// [`SPECULATIVE`] ([`gap_contact`], which a disk against a wall takes directly): one point in
+/// the middle of the gap, the gap its separation. It is no claim of overlap (its separation is not
 /// negative); it only keeps the two from closing faster than the gap within a substep.
 fn speculative(ca: Vec2, ra: f64, cb: Vec2, rb: f64) -> Option<Manifold> {
     let d = cb - ca;
@@ -786,7 +786,11 @@ fn find_contacts(
                     for &j in near.later(i) {
                         let j = j as usize;
                         if (awake[i] || awake[j])
-                            && near_boxes(&boxes[i], &boxes[j], disks[i] && disks[j])
+                            && (if disks[i] && disks[j] {
+                                boxes[i].grown(SPECULATIVE).intersects(&boxes[j])
+                            } else {
+                                boxes[i].intersects(&boxes[j])
+                            })
                         {
                             out.push((i, j, warm.get(&(i, j)).copied()));
                         }
@@ -896,7 +900,8 @@ fn find_contacts(
             let mut tests = 0;
             let mut found = Vec::new();
             for (k, wall) in walls.iter().enumerate() {
-                if !near_boxes(&boxes[i], &wall_boxes[k], disks[i]) {
+                let reach = if disks[i] { SPECULATIVE } else { 0.0 };
+                if !boxes[i].grown(reach).intersects(&wall_boxes[k]) {
                     continue;
                 }
                 tests += 1;
@@ -940,16 +945,6 @@ fn find_contacts(
     Ok(stats)
 }
 
-/// Whether two boxes meet, or come within [`SPECULATIVE`] of each other where `grown` (a
-/// pair that may have a speculative contact).
-fn near_boxes(a: &Aabb, b: &Aabb, grown: bool) -> bool {
-    let m = if grown { SPECULATIVE } else { 0.0 };
-    a.min.x - m <= b.max.x
-        && b.min.x - m <= a.max.x
-        && a.min.y - m <= b.max.y
-        && b.min.y - m <= a.max.y
-}
-
 /// A manifold found at the predicted poses, as a constraint between `a` and `b`. Each point's
 /// lever is its offset from the grain's predicted centre: where the contact is, not the
 /// material point that will be there (turned back to the step's start, a rolling disk's lever
@@ -968,7 +963,7 @@ fn anchored(
     turns: &[Rotation],
     slop: f64,
 ) -> Constraint {
-    let star = |i: usize| i != STATIC && bodies[i].shape.exponents().iter().any(|&e| e < 1.0);
+    let star = |i: usize| i != STATIC && bodies[i].shape.is_star();
     let lever = |i: usize, c: Vec2| {
         if i == STATIC {
             Vec2::ZERO
@@ -1445,21 +1440,15 @@ fn forces(bodies: &[Body], hs: f64, work: &mut SoftWorkspace) {
     let mut previous = std::mem::take(&mut work.forces);
     previous.retain(|f| asleep(f.a) && asleep(f.b) && f.b < bodies.len());
     work.forces = previous;
-    let start = &work.start;
-    // How far the point at offset `r` of grain `i` moved over the step.
-    let moved = |i: usize, r: Vec2| {
-        if i == STATIC {
-            Vec2::ZERO
-        } else {
-            let b = &bodies[i];
-            b.center - start[i].0 + Rotation::new(b.angle - start[i].1).apply(r) - r
-        }
+    // The grains' motion over the step, as the substeps left it in their records.
+    let state = State {
+        wall: bodies.len(),
+        solids: &mut work.solids,
     };
     for c in &work.constraints {
         let points = &c.points[..c.len];
         let overlap = points.iter().fold(f64::NEG_INFINITY, |deepest, p| {
-            let sep = p.base + c.normal.dot(moved(c.b, p.rb) - moved(c.a, p.ra));
-            deepest.max(-sep)
+            deepest.max(-separation(&state, c, p))
         });
         let normal: f64 = points.iter().map(|p| p.normal_impulse).sum();
         let tangent: f64 = points.iter().map(|p| p.tangent_impulse).sum();

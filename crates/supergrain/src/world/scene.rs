@@ -679,10 +679,10 @@ fn stiffness_for(
     let mut load = crate::solver::soft::Load {
         mass: 0.0,
         width,
-        thickness: f64::INFINITY,
         thin_mass: 0.0,
         gravity: settings.gravity,
     };
+    let mut thinnest = f64::INFINITY;
     for g in groups {
         // (Invalid shapes are refused by `validate`, after this: skip them here.)
         let Ok((small, large)) = g.extreme_shapes() else {
@@ -692,8 +692,8 @@ fn stiffness_for(
         let (m_large, _) = g.material.mass_and_inertia(&large);
         load.mass += f64::from(g.count) * 0.5 * (m_small + m_large);
         let thickness = 2.0 * small.min_semi_axis();
-        if thickness < load.thickness {
-            load.thickness = thickness;
+        if thickness < thinnest {
+            thinnest = thickness;
             load.thin_mass = m_small;
         }
     }
