@@ -4,33 +4,16 @@
 //! README and the help say.
 //!
 //! `SUPERGRAIN_BIN=/path/to/supergrain` runs these against another build (an older one, to see
-//! them fail before their fixes).
+//! them fail before their fixes; `common::supergrain`).
 
 mod common;
 
 use std::collections::BTreeSet;
 use std::io::Read;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 
-use common::{TINY_CIRCLES, failed, ok, p, parse_vtk, stderr, stdout, write_scene};
-
-fn supergrain() -> Command {
-    match std::env::var_os("SUPERGRAIN_BIN") {
-        Some(bin) => Command::new(bin),
-        None => Command::new(env!("CARGO_BIN_EXE_supergrain")),
-    }
-}
-
-fn sg(args: &[&str]) -> Output {
-    supergrain()
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .output()
-        .expect("run supergrain")
-}
+use common::{TINY_CIRCLES, failed, ok, p, parse_vtk, sg, stderr, stdout, supergrain, write_scene};
 
 /// A refusal by the command line's parser (exit code 2) or the command (1): an `error:`
 /// message, no panic, nothing on stdout.

@@ -6,8 +6,13 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+/// The built binary, or `SUPERGRAIN_BIN` when set (another build, an older one say, to see a
+/// test fail before its fix).
 pub fn supergrain() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_supergrain"))
+    match std::env::var_os("SUPERGRAIN_BIN") {
+        Some(bin) => Command::new(bin),
+        None => Command::new(env!("CARGO_BIN_EXE_supergrain")),
+    }
 }
 
 /// Runs `supergrain` with `args`, stdin closed, stdout and stderr captured (so neither is a
