@@ -19,10 +19,6 @@ top = 4.0
 interval = 5
 [solver]
 model = "soft"
-# Awake throughout: a contact between sleepers keeps the force of the step they fell asleep,
-# which need not balance the weight (measured here: the floor's forces then summed to 68.8
-# against a weight of 58.5; awake, 58.26).
-sleep_radius = 0.0
 [[group]]
 count = 20
 radius = [0.2, 0.3]
@@ -62,10 +58,13 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
     let last: Vec<_> = rows.iter().filter(|r| r[0] == "900").collect();
     assert!(last.len() > 30, "{} contacts at the last step", last.len());
     // The walls hold the heap: their contacts' vertical forces, normal and tangential, add
-    // up to the heap's weight (every grain has landed and rests by step 900; density 1, g
-    // 9.8). The floor alone need not: the side walls' friction can hold some weight up or,
-    // locked in as the heap settled, press it down (measured: the floor 58.2 or 61.7, with
-    // the contacts solved in another order, against a weight of 58.5).
+    // up to the heap's weight (every grain has landed, and the heap is asleep by step 900 and
+    // its forces settled; density 1, g 9.8). The floor alone need not: the side walls'
+    // friction can hold some weight up or, locked in as the heap settled, press it down
+    // (measured: the floor 58.2 or 61.7, with the contacts solved in another order, against a
+    // weight of 58.5). Until 2026-12-06 this ran awake (sleeping grain by grain, the forces of
+    // sleepers did not balance: 68.8 against 58.5), to within 1e-3: a heap still creeping by a
+    // few thousandths a second missed it (58.405). Asleep by islands: 58.5294 against 58.5295.
     let wall_up: f64 = last
         .iter()
         .filter(|r| !r[4].is_empty())
@@ -80,7 +79,7 @@ fn run_writes_every_contacts_force_and_the_heaps_stress() {
     let weight: f64 = d["particles"].as_array().unwrap().iter().map(weight).sum();
     assert_eq!(d["particles"].as_array().unwrap().len(), 30);
     assert!(
-        (wall_up - weight).abs() <= 1e-3 * weight,
+        (wall_up - weight).abs() <= 1e-4 * weight,
         "the walls push up {wall_up}, the heap weighs {weight}"
     );
 }
@@ -136,8 +135,8 @@ fn sleep_radius_zero_on_resume_gives_the_forces_at_equilibrium() {
         dir.path(),
         "sleepy.toml",
         &SCENE.replace(
-            "sleep_radius = 0.0",
-            "sleep_radius = 0.005\nsleep_islands = false",
+            "model = \"soft\"",
+            "model = \"soft\"\nsleep_islands = false",
         ),
     );
     let rested = dir.path().join("rested.json");
@@ -485,10 +484,7 @@ fn a_heap_asleep_by_islands_reports_forces_that_balance() {
     let scene = write_scene(
         dir.path(),
         "islands.toml",
-        &SCENE.replace(
-            "sleep_radius = 0.0",
-            "sleep_radius = 0.005\nsleep_islands = true",
-        ),
+        &SCENE.replace("model = \"soft\"", "model = \"soft\"\nsleep_islands = true"),
     );
     let (csv, dump) = (dir.path().join("f.csv"), dir.path().join("rest.json"));
     let err = ok(&sg(&[
@@ -559,10 +555,7 @@ fn a_heap_asleep_by_islands_reports_forces_that_balance() {
         dir.path(),
         "slow.toml",
         &SCENE
-            .replace(
-                "sleep_radius = 0.0",
-                "sleep_radius = 0.005\nsleep_islands = true",
-            )
+            .replace("model = \"soft\"", "model = \"soft\"\nsleep_islands = true")
             .replace("interval = 5", "interval = 150")
             .replace("count = 20", "count = 6")
             .replace("count = 10", "count = 4"),

@@ -192,12 +192,19 @@ fn a_plane_needs_the_soft_model() {
 fn a_sleeping_heap_wakes_under_a_dropped_grain_and_holds_it() {
     let scene = Scene::from_toml(SCENE).unwrap();
     let mut w = World::new(&scene);
-    run(&mut w, 1200);
+    // Asleep by islands, the heap falls asleep at once when all of it is calm, which on this
+    // seed takes 1,200 to 3,000 steps (one grain creeping on the top keeps it awake: seeds 1-6
+    // asleep by step 800 but this one; with the separations read before 2026-12-06, seed 5 not
+    // by 3,000).
+    while w.asleep() <= 90 {
+        assert!(
+            w.step < 4000,
+            "only {} of 100 grains sleep by step 4,000",
+            w.asleep()
+        );
+        w.step();
+    }
     let sleeping = w.asleep();
-    assert!(
-        sleeping > 90,
-        "only {sleeping} of 100 grains sleep in the rested heap"
-    );
     // A heavy disk dropped from above the middle of the heap.
     let top = w
         .bodies
