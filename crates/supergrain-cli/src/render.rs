@@ -45,7 +45,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         .to_world()
         .with_context(|| format!("invalid state in {}", args.state.display()))?;
     let out = Output::open(Some(&args.output))?;
-    if args.forces && world.settings.model != supergrain::solver::Model::Soft {
+    if args.forces && world.settings.model != supergrain::settings::Model::Soft {
         anyhow::bail!(
             "--forces needs a dump of the soft model ([solver] model = \"soft\"): {} has no \
              forces",

@@ -15,7 +15,7 @@ use supergrain::io::{
     write_vtk_frame,
 };
 use supergrain::render::{Style, render_world, world_region, world_svg};
-use supergrain::solver::{Model, NarrowPhase};
+use supergrain::settings::{Model, NarrowPhase};
 use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Scene, World};
 

@@ -13,9 +13,9 @@
 //! grain's radius. rapier2d has no rolling resistance and the paper's model no friction: neither
 //! runs this scene.
 
+use supergrain::body::Material;
 use supergrain::measure::Disk;
 use supergrain::measure::repose::{self, Pile, Pour, Repose};
-use supergrain::solver::soft::Material;
 
 use crate::bench::Engine;
 use crate::box2d::Box2d;

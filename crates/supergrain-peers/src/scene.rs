@@ -173,8 +173,8 @@ pub struct Walls {
     pub floor: f64,
 }
 
-impl From<supergrain::solver::Walls> for Walls {
-    fn from(w: supergrain::solver::Walls) -> Walls {
+impl From<supergrain::body::Walls> for Walls {
+    fn from(w: supergrain::body::Walls) -> Walls {
         Walls {
             left: w.left,
             right: w.right,

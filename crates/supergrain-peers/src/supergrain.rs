@@ -5,10 +5,12 @@
 
 use std::time::Instant;
 
+use supergrain::body::Body;
+use supergrain::body::Material;
 use supergrain::geometry::Vec2;
-use supergrain::solver::soft::{Material, SoftSettings};
+use supergrain::settings::SoftSettings;
+use supergrain::settings::{Model, Settings};
 use supergrain::solver::strips::WIDTH_IN_RADII;
-use supergrain::solver::{Body, Model, Settings};
 use supergrain::world::{Scene, SpawnRule, World};
 
 use crate::overlap::{self, Resting};

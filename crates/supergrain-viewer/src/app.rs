@@ -6,10 +6,10 @@ use std::sync::Arc;
 use eframe::egui::{
     self, Color32, Mesh, PointerButton, Pos2, Rect, Sense, Shape, Stroke, Vec2 as EVec2,
 };
+use supergrain::body::Material;
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::render::cell_style;
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::solver::soft::Material;
 use supergrain::world::MaterialOf;
 
 use crate::driver::{Driver, Meter};

@@ -2,13 +2,14 @@
 //! on it ([`Command`]) and what a frame draws of it ([`Snapshot`]). Everything here runs and is
 //! tested without a display; the window only sends commands and draws snapshots.
 
+use supergrain::body::Body;
+use supergrain::body::Material;
 use supergrain::contact::{Penetration, WallPenetration};
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::render::{Colouring, Style, render_world};
+use supergrain::settings::{Model, Settings};
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::solver::soft::Material;
-use supergrain::solver::{Body, Model, Settings};
 use supergrain::subdivision::Precision;
 use supergrain::world::{MaterialOf, PRESETS, Scene, Touch, World};
 
@@ -447,7 +448,7 @@ impl Sim {
         (world.settings.model == Model::Soft).then(|| Materials {
             groups: (0..world.group_count())
                 .map(|g| {
-                    let m = supergrain::solver::soft::material_of(&world.materials, g as u32);
+                    let m = supergrain::body::material_of(&world.materials, g as u32);
                     (self.group_name(g), m)
                 })
                 .collect(),

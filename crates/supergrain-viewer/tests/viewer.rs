@@ -1,11 +1,11 @@
 //! The viewer's logic without a window: the controls as commands, checked against the library
 //! driven directly, brute force, and closed forms.
 
+use supergrain::body::Material;
 use supergrain::contact::contact;
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::solver::soft::Material;
 use supergrain::world::{MaterialOf, Scene, World};
 use supergrain_viewer::driver::Meter;
 use supergrain_viewer::explorer::{Explorer, Params};
@@ -262,7 +262,7 @@ fn the_overlays_show_every_overlapping_pair_found_by_brute_force() {
         let (row, col) = (k / 7, k % 7);
         let centre = Vec2::new(-1.5 + 0.5 * f64::from(col), 0.15 + 0.33 * f64::from(row));
         let pose = Pose::new(centre, 0.37 * f64::from(k)).unwrap();
-        sim.world.bodies.push(supergrain::solver::Body::at_rest(
+        sim.world.bodies.push(supergrain::body::Body::at_rest(
             shapes[k as usize % 3],
             &pose,
         ));

@@ -12,7 +12,9 @@
 //! | quadtree narrow phase | [`subdivision`] | II |
 //! | deepest points, penetration | [`contact`] | III-A, III-B |
 //! | broad phase | [`broad_phase`] | III-A |
-//! | Verlet + projection | [`solver`] | III |
+//! | solver settings | [`settings`] | III |
+//! | grains, materials, the box | [`body`] | I, III |
+//! | Verlet + projection, the soft step | [`solver`] | III |
 //! | world, scenes, spawning | [`world`] | III, IV |
 //! | a heap's angle of repose and packing | [`measure`] | |
 //! | pictures | [`render`] | II-B |
@@ -20,6 +22,7 @@
 //! | benchmark scenes | [`bench`] | IV-A |
 
 pub mod bench;
+pub mod body;
 pub mod broad_phase;
 pub mod contact;
 pub mod geometry;
@@ -27,6 +30,7 @@ pub mod interval;
 pub mod io;
 pub mod measure;
 pub mod render;
+pub mod settings;
 pub mod shape;
 pub mod solver;
 pub mod subdivision;

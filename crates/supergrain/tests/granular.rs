@@ -7,10 +7,10 @@ use std::f64::consts::PI;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use supergrain::body::Material;
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::measure::repose::{self, Pour};
 use supergrain::measure::{Disk, packing};
-use supergrain::solver::soft::Material;
 use supergrain::world::World;
 
 fn window(x0: f64, y0: f64, x1: f64, y1: f64) -> Aabb {

@@ -3,10 +3,11 @@
 //! a column and a pyramid of blocks that stand. Each compares with a closed form, not with the
 //! code's own output.
 
+use supergrain::body::Material;
+use supergrain::body::{Body, Walls};
 use supergrain::geometry::Vec2;
+use supergrain::settings::{Model, NarrowPhase, Settings};
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
-use supergrain::solver::soft::Material;
-use supergrain::solver::{Body, Model, NarrowPhase, Settings, Walls};
 use supergrain::world::{Queue, World};
 
 const G: f64 = 9.8;

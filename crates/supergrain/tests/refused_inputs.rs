@@ -162,7 +162,7 @@ fn a_dump_that_does_not_say_its_model_is_refused_or_read_as_the_papers() {
     d["solver"].as_object_mut().unwrap().remove("model");
     assert_eq!(
         to_world(&d).unwrap().settings.model,
-        supergrain::solver::Model::Paper
+        supergrain::settings::Model::Paper
     );
 }
 

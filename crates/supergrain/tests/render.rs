@@ -1114,7 +1114,7 @@ exponent = 4.0
         world.step();
     }
     // Which group a grain must be in, read off its shape alone.
-    let group_of = |b: &supergrain::solver::Body| {
+    let group_of = |b: &supergrain::body::Body| {
         let s = b.shape.semi_axes();
         if b.shape.exponents()[0] == 4.0 {
             2

@@ -4,10 +4,11 @@
 //! damped Verlet fall written again here, sharing no code with the library.
 
 use proptest::prelude::*;
+use supergrain::body::{Body, Walls};
 use supergrain::geometry::Vec2;
 use supergrain::io::{Dump, DumpError};
+use supergrain::settings::Settings;
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::solver::{Body, Settings, Walls};
 use supergrain::world::{PRESETS, Scene, SceneError, World};
 
 /// An 8 x 10 box (the presets'), five circles, and the given extra lines.

@@ -639,7 +639,7 @@ fn every_example_scene_file_parses_and_the_preset_files_are_the_presets() {
     // 0.35), not the rice's (0.45, 0.18) nor the blocks' (0.3, 0.35), and the default narrow
     // phase; each group with its own material.
     let auto = 8.0 * 0.35f64.hypot(0.35);
-    use supergrain::solver::{Model, NarrowPhase};
+    use supergrain::settings::{Model, NarrowPhase};
     for (name, grains, width, narrow) in [
         ("pour-1000", 1000, auto, NarrowPhase::Interval),
         ("pour-10k", 10_000, auto, NarrowPhase::Interval),
@@ -776,15 +776,15 @@ fn grains_appear_at_the_top_between_the_walls_and_never_inside_another() {
 }
 
 /// A circle of radius `r` at `(x, y)`, at rest.
-fn circle_at(r: f64, x: f64, y: f64) -> supergrain::solver::Body {
+fn circle_at(r: f64, x: f64, y: f64) -> supergrain::body::Body {
     use supergrain::shape::{Pose, Superellipse};
-    supergrain::solver::Body::at_rest(
+    supergrain::body::Body::at_rest(
         Superellipse::circle(r).unwrap(),
         &Pose::new(supergrain::geometry::Vec2::new(x, y), 0.0).unwrap(),
     )
 }
 
-fn two_circle_world(bodies: Vec<supergrain::solver::Body>) -> World {
+fn two_circle_world(bodies: Vec<supergrain::body::Body>) -> World {
     let scene = Scene::preset("circles").unwrap();
     World::from_parts(
         bodies,

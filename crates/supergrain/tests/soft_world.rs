@@ -213,7 +213,7 @@ fn a_sleeping_heap_wakes_under_a_dropped_grain_and_holds_it() {
         .fold(0.0, f64::max);
     let disk = supergrain::shape::Superellipse::circle(0.3).unwrap();
     let pose = supergrain::shape::Pose::new(supergrain::geometry::Vec2::new(0.0, top + 1.0), 0.0);
-    let mut grain = supergrain::solver::Body::at_rest(disk, &pose.unwrap());
+    let mut grain = supergrain::body::Body::at_rest(disk, &pose.unwrap());
     grain.group = 1;
     w.bodies.push(grain);
     let new = w.bodies.len() - 1;

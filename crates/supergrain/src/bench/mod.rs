@@ -271,7 +271,7 @@ pub struct PresetResult {
 /// and for each scene its fastest run. Runs are identical bit for bit, so only the time varies.
 /// `seed`: instead of each preset's own.
 pub fn preset_cases(steps: u64, runs: usize, seed: Option<u64>) -> Vec<PresetResult> {
-    use crate::solver::NarrowPhase;
+    use crate::settings::NarrowPhase;
     use crate::world::{Scene, World};
     let mut scenes: Vec<(String, Scene)> = crate::world::PRESETS
         .iter()
@@ -311,7 +311,7 @@ pub fn preset_cases(steps: u64, runs: usize, seed: Option<u64>) -> Vec<PresetRes
 /// grain in a cell as wide as the largest box, at its drawn angle (a frame to draw, for the
 /// renderer's benchmark).
 pub fn laid_out(scene: &crate::world::Scene) -> crate::world::World {
-    use crate::solver::Body;
+    use crate::body::Body;
     let world = crate::world::World::new(scene);
     let w = scene.walls;
     let cell = world
@@ -357,7 +357,7 @@ pub fn render_cases(world: &crate::world::World, width: u32, reps: usize) -> Vec
     let mut pixmap = Pixmap::new(view.width, view.height).expect("a non-empty frame");
     // The same anti-aliased solid fill the overlays use.
     let mut pen = Pen::new(&view);
-    let polygon = |pen: &Pen, b: &crate::solver::Body| -> Option<Path> {
+    let polygon = |pen: &Pen, b: &crate::body::Body| -> Option<Path> {
         pen.path(&b.shape.boundary_polygon(&b.pose(), 64), true)
     };
     let prebuilt: Vec<Option<Path>> = world.bodies.iter().map(|b| polygon(&pen, b)).collect();
@@ -441,7 +441,7 @@ pub fn tiled(
     copies: usize,
     broad_phase: crate::broad_phase::Kind,
 ) -> crate::world::World {
-    use crate::solver::Body;
+    use crate::body::Body;
     let w = heap.walls;
     let width = w.right - w.left;
     let mut bodies = Vec::with_capacity(heap.bodies.len() * copies);
@@ -459,7 +459,7 @@ pub fn tiled(
     let mut settings = heap.settings;
     settings.sleep_radius = 0.0;
     settings.broad_phase = broad_phase;
-    let walls = crate::solver::Walls {
+    let walls = crate::body::Walls {
         right: w.left + width * copies as f64,
         ..w
     };

@@ -7,13 +7,16 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
+use crate::body::{Body, Walls};
+use crate::body::{Material, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::WarmStart;
 use crate::geometry::Vec2;
+use crate::settings::SoftSettings;
+use crate::settings::{Model, NarrowPhase, Rotation, Settings};
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
-use crate::solver::soft::{Kept, MAX_WALLS, Material, STATIC, SoftSettings, material_of};
-use crate::solver::{Body, Model, NarrowPhase, Rotation, Settings, Walls};
+use crate::solver::soft::{Kept, MAX_WALLS, STATIC};
 use crate::subdivision::Precision;
 use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Touch, World, checks};
 

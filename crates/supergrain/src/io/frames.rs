@@ -2,7 +2,7 @@
 
 use std::io::{self, Write};
 
-use crate::solver::Model;
+use crate::settings::Model;
 use crate::world::World;
 
 /// The trajectory CSV header: one row per grain and frame.

@@ -29,10 +29,11 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::Disk;
+use crate::body::Material;
+use crate::body::{Body, Walls};
 use crate::geometry::Vec2;
+use crate::settings::Settings;
 use crate::shape::{Pose, Superellipse};
-use crate::solver::soft::Material;
-use crate::solver::{Body, Settings, Walls};
 use crate::world::{Queue, World};
 
 /// The pour's parameters (see the module docs). The floor is at `y = 0`, the source over

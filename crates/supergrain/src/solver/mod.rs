@@ -14,253 +14,19 @@ pub mod strips;
 
 pub use response::{project, safe_push};
 
+use crate::body::{Body, Walls};
 use crate::broad_phase::BroadPhase;
 use crate::contact::{
     Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_quadtree_midpoints,
     contact_wall, contact_wall_quadtree, contact_warm_midpoints, disk_disk,
 };
 use crate::geometry::{Aabb, Vec2};
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::settings::{NarrowPhase, Rotation, Settings};
+use crate::shape::{HalfPlane, Pose};
 use crate::subdivision::Precision;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// A grain: its shape, where it is and where it was one step ago (Verlet keeps velocity
-/// implicit).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Body {
-    pub shape: Superellipse,
-    pub center: Vec2,
-    pub angle: f64,
-    pub previous_center: Vec2,
-    pub previous_angle: f64,
-    /// Steps in a row the grain has stayed within [`Settings::sleep_radius`] of `anchor`; at
-    /// [`Settings::sleep_steps`] it is asleep.
-    pub calm: u32,
-    pub anchor: Vec2,
-    /// Where the grain was when it last woke the sleepers by it for drifting: once it is
-    /// [`DRIFT_WAKE`] sleep radii away, however slowly it went, it wakes them again.
-    pub drift_anchor: Vec2,
-    /// Steps the grain has been ready to sleep while a neighbour was not (see `update_sleep`).
-    pub waiting: u32,
-    /// The scene group the grain came from, counted from 0 in the scene's order (0 for grains
-    /// made otherwise). The paper's solver ignores it; the soft step takes the group's
-    /// material; pictures can colour by it.
-    pub group: u32,
-    /// Linear and angular velocity: state of the soft step ([`Model::Soft`]); the paper's
-    /// Verlet keeps velocity implicit and leaves these at 0.
-    pub velocity: Vec2,
-    pub angular_velocity: f64,
-}
-
-impl Body {
-    /// A body at rest.
-    pub fn at_rest(shape: Superellipse, pose: &Pose) -> Self {
-        Body {
-            shape,
-            center: pose.center(),
-            angle: pose.angle(),
-            previous_center: pose.center(),
-            previous_angle: pose.angle(),
-            calm: 0,
-            anchor: pose.center(),
-            drift_anchor: pose.center(),
-            waiting: 0,
-            group: 0,
-            velocity: Vec2::ZERO,
-            angular_velocity: 0.0,
-        }
-    }
-
-    /// Whether the grain sleeps under these settings.
-    pub fn asleep(&self, settings: &Settings) -> bool {
-        settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps
-    }
-
-    pub fn pose(&self) -> Pose {
-        Pose::from_parts(self.center, self.angle)
-    }
-
-    pub fn bounding_box(&self) -> Aabb {
-        self.shape.bounding_box(&self.pose())
-    }
-
-    pub fn is_finite(&self) -> bool {
-        self.center.is_finite()
-            && self.angle.is_finite()
-            && self.previous_center.is_finite()
-            && self.previous_angle.is_finite()
-            && self.velocity.is_finite()
-            && self.angular_velocity.is_finite()
-    }
-}
-
-/// The open box (paper III-B, Fig. 8).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Walls {
-    pub left: f64,
-    pub right: f64,
-    pub floor: f64,
-}
-
-impl Walls {
-    pub fn half_planes(&self) -> [HalfPlane; 3] {
-        [
-            HalfPlane::left(self.left).expect("finite walls"),
-            HalfPlane::right(self.right).expect("finite walls"),
-            HalfPlane::floor(self.floor).expect("finite walls"),
-        ]
-    }
-}
-
-/// How the angle evolves.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Rotation {
-    /// The paper's: only projection turns a grain; it keeps no angular velocity.
-    Projection,
-    /// Verlet on the angle too: a grain turned by a collision keeps turning, damped.
-    Inertia,
-}
-
-/// Which dynamics steps the grains.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Model {
-    /// The paper's: Verlet with damping, unit masses, projection of the overlaps (this module).
-    #[default]
-    Paper,
-    /// Rigid grains with mass, friction, restitution and rolling resistance, contacts found once
-    /// per step and solved with substeps as soft constraints ([`soft`]).
-    Soft,
-}
-
-/// Which narrow phase answers grain-grain and grain-wall contact.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NarrowPhase {
-    /// Certified, for any superellipse: the certified Newton path for convex pairs, the
-    /// quadtree whenever that path has no proof, and for stars.
-    Interval,
-    /// The paper's certified quadtree alone, for every pair.
-    Quadtree,
-    /// Centre distance, for circles only: the paper's comparison (IV-A).
-    Analytic,
-}
-
-/// Solver settings; the defaults are the paper's.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Settings {
-    /// Time step `h`.
-    pub step: f64,
-    /// Damping `delta` of the Verlet update.
-    pub damping: f64,
-    /// Gravity `g` (downwards).
-    pub gravity: f64,
-    /// Projection passes per grain per step.
-    pub max_iterations: u32,
-    /// Penetrations shallower than this move a grain but do not turn it (our addition, as
-    /// Box2D's linear slop; 0 is the paper's projection).
-    pub slop: f64,
-    /// Sleeping, as in Box2D (our addition; 0 turns it off): a grain that stays within this
-    /// distance of one point for [`Settings::sleep_steps`] steps in a row stops moving, until an
-    /// awake grain pushes into it deeper than `slop` or a grain whose box touches its box moves
-    /// more than this in one step. Projection alone leaves heaps trembling in place for ever
-    /// (a contact within a final cell of touching flickers between found and not found, so a
-    /// grain sinks `g h^2` and is pushed back, about every other step; with stars' spikes
-    /// thinner than a cell this never stops). A sleeper holds its neighbours as a wall does,
-    /// and is neither moved nor tested itself. The paper model's default is 0.002; the soft
-    /// model's, [`SOFT_SLEEP_RADIUS`] (0.005): build its settings with [`Settings::soft`], not
-    /// `Settings { model: Model::Soft, ..Settings::default() }`, which keeps the paper's.
-    pub sleep_radius: f64,
-    pub sleep_steps: u32,
-    /// Sleep by islands (soft model only): touching grains fall asleep together, when all are
-    /// calm, and wake together (see the soft step's `update_sleep_islands`), their forces put in
-    /// equilibrium as they fall asleep. The soft model's default ([`Settings::soft`]); off, grain
-    /// by grain, as the paper's model sleeps.
-    pub sleep_islands: bool,
-    /// End each step with a shock-propagation sweep from the floor up (our addition; see
-    /// [`shock_sweep`]) instead of two closing relaxation sweeps over all grains. Off by default:
-    /// the paper's small scenes rest without it; deep heaps (the 1,000-grain pour, twenty layers)
-    /// only rest with it.
-    pub shock_propagation: bool,
-    pub precision: Precision,
-    pub rotation: Rotation,
-    pub narrow_phase: NarrowPhase,
-    /// Which pairs are tested: a grid or all pairs (same pairs, same results; see
-    /// [`crate::broad_phase`]).
-    pub broad_phase: crate::broad_phase::Kind,
-    /// Width of the vertical strips a wide box is cut into so that all cores project at once
-    /// (see [`strips`]); 0, or a box narrower than [`strips::MIN_STRIPS`] strips, keeps the
-    /// paper's order, one grain after another. Results never depend on the number of threads.
-    pub strip_width: f64,
-    /// Which dynamics: the paper's projection or the soft step.
-    pub model: Model,
-    /// The soft step's settings (unused by the paper's model).
-    pub soft: soft::SoftSettings,
-}
-
-impl Default for Settings {
-    fn default() -> Self {
-        Settings {
-            step: 0.01,
-            damping: 0.1,
-            gravity: 9.8,
-            max_iterations: 10,
-            slop: 0.005,
-            sleep_radius: 0.002,
-            sleep_steps: 100,
-            sleep_islands: false,
-            // (The soft model's default is true: [`Settings::soft`].)
-            shock_propagation: false,
-            precision: Precision::default(),
-            rotation: Rotation::Projection,
-            narrow_phase: NarrowPhase::Interval,
-            broad_phase: crate::broad_phase::Kind::Grid,
-            strip_width: 0.0,
-            model: Model::Paper,
-            soft: soft::SoftSettings::default(),
-        }
-    }
-}
-
-/// The soft model's default sleep radius: its slop, 2.5 times the paper model's 0.002. A grain
-/// that drifts less than the overlap every contact keeps (`slop`) in `sleep_steps` steps is at
-/// rest. Measured on the mixed 1,000-grain pour with Box2D's materials (docs/physics.md, "The
-/// soft model's sleep radius"): at 0.002, 115 of 996 grains slept at step 1,200 though 813 were
-/// slower than the rest bar, the late steps cost as much as a heap with every grain awake, and
-/// six seeds rested after 1,905-3,832 steps (5.7-10.3 s); at 0.005 after 1,540-1,746 steps
-/// (3.0-3.2 s), and the scene's own seed in 2.84 s against 4.52.
-pub const SOFT_SLEEP_RADIUS: f64 = 0.005;
-
-impl Settings {
-    /// The defaults with the soft model ([`Model::Soft`]), whose sleep radius is
-    /// [`SOFT_SLEEP_RADIUS`].
-    pub fn soft() -> Self {
-        Settings {
-            model: Model::Soft,
-            sleep_radius: SOFT_SLEEP_RADIUS,
-            // By islands since 2026-12-06 (issue 40): a heap asleep grain by grain kept forces
-            // that did not balance (a median grain 4.3 weights off) and sank 2.7% of a grain's
-            // size when woken; by islands, settled as they fall asleep, every grain balances
-            // and a woken heap moves by 1e-4 of a size (docs/physics.md, "Heaps at rest").
-            sleep_islands: true,
-            ..Settings::default()
-        }
-    }
-
-    /// Pairs with a star (an exponent below 1) are tested two levels deeper: a spike thinner
-    /// than a final cell can otherwise sink unseen into a neighbour, and such contacts flicker
-    /// on and off as grains move, which keeps stars jittering.
-    pub fn star_precision(&self) -> Precision {
-        self.precision.deeper(2)
-    }
-
-    /// Walls are tested three levels deeper than grains: their enclosure is exact and cheap, and
-    /// the spike of a star (exponent < 1) narrower than a final cell can otherwise sink unseen
-    /// into the floor.
-    pub fn wall_precision(&self) -> Precision {
-        self.precision.deeper(3)
-    }
-}
 
 /// What one step did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -893,6 +659,7 @@ fn verlet(b: &mut Body, s: &Settings) {
 mod tests {
     use super::*;
     use crate::broad_phase::{Any, Kind};
+    use crate::shape::Superellipse;
 
     /// Two ellipses resting against each other on the floor: their pair is warm-started within a
     /// step, and nothing of one step's warm starts survives into the next (a resumed run starts

@@ -1,4 +1,4 @@
-use super::Body;
+use crate::body::Body;
 use crate::geometry::Vec2;
 
 /// The projection response of paper III-A (Fig. 7) for a grain whose deepest point `deepest`

@@ -3,7 +3,7 @@
 //! The paper's projection is Gauss-Seidel: grain by grain, each seeing the moves of the ones
 //! before it. Computing contacts in parallel and applying them in order would need the poses
 //! they were computed from, which the earlier grains keep changing. So we parallelise the order
-//! instead: a wide box is cut into vertical strips at least [`super::Settings::strip_width`]
+//! instead: a wide box is cut into vertical strips at least [`crate::settings::Settings::strip_width`]
 //! wide (by default eight times the largest grain's bounding radius, set by the scene), each
 //! grain belonging, for the whole step, to the strip of its centre at the step's start. Strip
 //! `k`'s grains are projected one after another, in index order, in a world made of strips
@@ -24,10 +24,12 @@
 use rayon::prelude::*;
 
 use super::{
-    Body, CLOSING_SWEEPS, Context, Settings, StepStats, Walls, Workspace, rebuild_boxes, settle,
-    shock_grain, shock_order, sweep_grain,
+    CLOSING_SWEEPS, Context, StepStats, Workspace, rebuild_boxes, settle, shock_grain, shock_order,
+    sweep_grain,
 };
+use crate::body::{Body, Walls};
 use crate::broad_phase::Any;
+use crate::settings::Settings;
 
 /// Fewer strips than this and a box keeps the paper's order: two strips per phase at least.
 pub const MIN_STRIPS: usize = 6;

@@ -6,11 +6,12 @@
 
 use super::Range;
 use super::spawn::{BAND_IN_RADII, SpawnRule};
+use crate::body::Material;
+use crate::body::{Body, Walls};
 use crate::contact::Penetration;
 use crate::geometry::{Aabb, Vec2};
+use crate::settings::{Model, Settings};
 use crate::shape::{HalfPlane, ShapeError, Superellipse};
-use crate::solver::soft::Material;
-use crate::solver::{Body, Model, Settings, Walls};
 
 /// The most a falling grain may move in one step, as a fraction of the smallest semi-axis of
 /// the scene: two such grains closing on each other then move together by at most one smallest

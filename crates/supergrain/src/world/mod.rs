@@ -10,14 +10,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub use scene::{Group, PRESETS, Range, Scene, SceneError};
 pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
+use crate::body::Material;
+use crate::body::{Body, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
+use crate::settings::{Model, Settings};
 use crate::shape::{HalfPlane, Pose};
-use crate::solver::soft::{self, Material, SoftWorkspace};
-use crate::solver::{
-    self, Body, Model, Settings, StepStats, Stopped, Walls, Workspace, grain_contact, wall_contact,
-};
+use crate::solver::soft::{self, SoftWorkspace};
+use crate::solver::{self, StepStats, Stopped, Workspace, grain_contact, wall_contact};
 
 /// Grains, walls, settings and the spawn queue.
 #[derive(Debug)]
@@ -316,7 +317,7 @@ impl World {
 
     /// The material of grain `i` (its group's, see [`soft::material_of`]).
     pub fn material(&self, i: usize) -> Material {
-        soft::material_of(&self.materials, self.bodies[i].group)
+        crate::body::material_of(&self.materials, self.bodies[i].group)
     }
 
     /// Changes a group's material, or the walls', from the next step on (the soft step's;
@@ -337,7 +338,8 @@ impl World {
                 let g = g as usize;
                 let len = self.group_count().max(g + 1);
                 while self.materials.len() < len {
-                    let next = soft::material_of(&self.materials, self.materials.len() as u32);
+                    let next =
+                        crate::body::material_of(&self.materials, self.materials.len() as u32);
                     self.materials.push(next);
                 }
                 let old = std::mem::replace(&mut self.materials[g], m);
@@ -543,7 +545,7 @@ pub enum Touch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solver::NarrowPhase;
+    use crate::settings::NarrowPhase;
     use crate::subdivision::Precision;
 
     /// The mixed preset with slow steps (the quadtree at depth 12), so that a flag raised at

@@ -9,11 +9,13 @@ use serde::{Deserialize, Serialize};
 
 use super::checks;
 use super::spawn::SpawnRule;
+use crate::body::Material;
+use crate::body::Walls;
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::geometry::Vec2;
+use crate::settings::SoftSettings;
+use crate::settings::{Model, NarrowPhase, Rotation, Settings};
 use crate::shape::{HalfPlane, ShapeError, Superellipse};
-use crate::solver::soft::{Material, SoftSettings};
-use crate::solver::{Model, NarrowPhase, Rotation, Settings, Walls};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
 /// A closed range `[lo, hi]` of values drawn uniformly, or one fixed value (`lo == hi`).
@@ -676,7 +678,7 @@ fn stiffness_for(
             ),
         ));
     }
-    let mut load = crate::solver::soft::Load {
+    let mut load = crate::settings::Load {
         mass: 0.0,
         width,
         thin_mass: 0.0,

@@ -28,9 +28,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::scene::{Group, Range, Scene};
+use crate::body::Walls;
 use crate::geometry::Vec2;
 use crate::shape::{Pose, Superellipse};
-use crate::solver::Walls;
 
 /// How due grains appear (see the module's doc).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -103,7 +103,7 @@ pub struct Pending {
     pub angle: f64,
     /// The first step at which it may appear.
     pub due: u64,
-    /// Its scene group (see [`crate::solver::Body::group`]).
+    /// Its scene group (see [`crate::body::Body::group`]).
     pub group: u32,
 }
 

@@ -1,0 +1,184 @@
+//! Bodies: what a grain is (its shape, pose, velocity and scene group), what it is made of
+//! ([`Material`], and how two materials mix in a contact), and the open box it is poured into.
+//! The layer below the solvers: the world, the dumps, the pictures and the measures read these
+//! without knowing how a step moves them.
+
+use crate::geometry::{Aabb, Vec2};
+use crate::settings::Settings;
+use crate::shape::{HalfPlane, Pose, Superellipse};
+
+/// A grain: its shape, where it is and where it was one step ago (Verlet keeps velocity
+/// implicit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Body {
+    pub shape: Superellipse,
+    pub center: Vec2,
+    pub angle: f64,
+    pub previous_center: Vec2,
+    pub previous_angle: f64,
+    /// Steps in a row the grain has stayed within [`Settings::sleep_radius`] of `anchor`; at
+    /// [`Settings::sleep_steps`] it is asleep.
+    pub calm: u32,
+    pub anchor: Vec2,
+    /// Where the grain was when it last woke the sleepers by it for drifting: once it is
+    /// [`DRIFT_WAKE`] sleep radii away, however slowly it went, it wakes them again.
+    pub drift_anchor: Vec2,
+    /// Steps the grain has been ready to sleep while a neighbour was not (see `update_sleep`).
+    pub waiting: u32,
+    /// The scene group the grain came from, counted from 0 in the scene's order (0 for grains
+    /// made otherwise). The paper's solver ignores it; the soft step takes the group's
+    /// material; pictures can colour by it.
+    pub group: u32,
+    /// Linear and angular velocity: state of the soft step ([`crate::settings::Model::Soft`]); the paper's
+    /// Verlet keeps velocity implicit and leaves these at 0.
+    pub velocity: Vec2,
+    pub angular_velocity: f64,
+}
+
+impl Body {
+    /// A body at rest.
+    pub fn at_rest(shape: Superellipse, pose: &Pose) -> Self {
+        Body {
+            shape,
+            center: pose.center(),
+            angle: pose.angle(),
+            previous_center: pose.center(),
+            previous_angle: pose.angle(),
+            calm: 0,
+            anchor: pose.center(),
+            drift_anchor: pose.center(),
+            waiting: 0,
+            group: 0,
+            velocity: Vec2::ZERO,
+            angular_velocity: 0.0,
+        }
+    }
+
+    /// Whether the grain sleeps under these settings.
+    pub fn asleep(&self, settings: &Settings) -> bool {
+        settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps
+    }
+
+    pub fn pose(&self) -> Pose {
+        Pose::from_parts(self.center, self.angle)
+    }
+
+    pub fn bounding_box(&self) -> Aabb {
+        self.shape.bounding_box(&self.pose())
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.center.is_finite()
+            && self.angle.is_finite()
+            && self.previous_center.is_finite()
+            && self.previous_angle.is_finite()
+            && self.velocity.is_finite()
+            && self.angular_velocity.is_finite()
+    }
+}
+
+/// The open box (paper III-B, Fig. 8).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Walls {
+    pub left: f64,
+    pub right: f64,
+    pub floor: f64,
+}
+
+impl Walls {
+    pub fn half_planes(&self) -> [HalfPlane; 3] {
+        [
+            HalfPlane::left(self.left).expect("finite walls"),
+            HalfPlane::right(self.right).expect("finite walls"),
+            HalfPlane::floor(self.floor).expect("finite walls"),
+        ]
+    }
+}
+
+/// What a grain (or a wall) is made of.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Mass per unit area.
+    pub density: f64,
+    /// Coulomb's coefficient: the tangential impulse at a point is at most `friction` times
+    /// the normal one.
+    pub friction: f64,
+    /// The ratio of the speeds apart and together along the normal after an impact faster
+    /// than [`crate::settings::SoftSettings::restitution_threshold`].
+    pub restitution: f64,
+    /// The rolling-friction coefficient `mu_r`: the torque resisting the relative rolling of
+    /// two grains is at most `mu_r R F_n`, `R` the contact's mean lever arm (DEM's "type A"
+    /// rolling resistance, as Box2D v3's `rollingResistance`). Without it poured disks roll
+    /// flat.
+    pub rolling_resistance: f64,
+}
+
+impl Default for Material {
+    /// Density 1, friction 0.6 and no restitution or rolling resistance: Box2D's defaults.
+    fn default() -> Self {
+        Material {
+            density: 1.0,
+            friction: 0.6,
+            restitution: 0.0,
+            rolling_resistance: 0.0,
+        }
+    }
+}
+
+impl Material {
+    /// The mass (`density` times the area) and the moment of inertia about the centre of a
+    /// grain of `shape` made of this material: what the soft step uses, and what the
+    /// trajectory reports.
+    pub fn mass_and_inertia(&self, shape: &Superellipse) -> (f64, f64) {
+        let mass = self.density * shape.area();
+        (mass, shape.moment_of_inertia(mass))
+    }
+
+    /// Whether every number is in its range (the scene file's: density finite and positive,
+    /// friction and rolling resistance finite and not negative, restitution in `[0, 1]`); the
+    /// error names the first that is not.
+    pub fn validate(&self) -> Result<(), String> {
+        let bad = |field: &str, v: f64| Err(format!("{field} is out of range, got {v}"));
+        if !(self.density.is_finite() && self.density > 0.0) {
+            return bad("density", self.density);
+        }
+        if !(self.friction.is_finite() && self.friction >= 0.0) {
+            return bad("friction", self.friction);
+        }
+        if !(0.0..=1.0).contains(&self.restitution) {
+            return bad("restitution", self.restitution);
+        }
+        if !(self.rolling_resistance.is_finite() && self.rolling_resistance >= 0.0) {
+            return bad("rolling_resistance", self.rolling_resistance);
+        }
+        Ok(())
+    }
+}
+
+/// The material of a grain of `group`: `materials[group]`, or past the table's end its last
+/// entry, or the default for an empty table.
+pub fn material_of(materials: &[Material], group: u32) -> Material {
+    materials
+        .get(group as usize)
+        .or(materials.last())
+        .copied()
+        .unwrap_or_default()
+}
+
+/// Two materials in contact: friction is the geometric mean, restitution and rolling
+/// resistance the larger (Box2D's rules: a frictionless grain slides on anything, a bouncy one
+/// bounces on anything).
+pub(crate) fn mix(a: &Material, b: &Material) -> (f64, f64, f64) {
+    // (Each root taken alone where the product overflows: two frictions of 1e200 mixed to
+    // infinity, and infinity times a point's zero normal impulse bounded its friction by NaN.)
+    let product = a.friction * b.friction;
+    (
+        if product.is_finite() {
+            product.sqrt()
+        } else {
+            a.friction.sqrt() * b.friction.sqrt()
+        },
+        a.restitution.max(b.restitution),
+        a.rolling_resistance.max(b.rolling_resistance),
+    )
+}
