@@ -10,12 +10,13 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::{Parser, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use supergrain::contact::NarrowPhase;
 use supergrain::io::{
     Dump, FORCES_HEADER, GifWriter, trajectory_header, write_forces_frame, write_trajectory_frame,
     write_vtk_frame,
 };
 use supergrain::render::{Style, render_world, world_region, world_svg};
-use supergrain::settings::{Model, NarrowPhase};
+use supergrain::settings::Model;
 use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Scene, World};
 

@@ -3,6 +3,7 @@
 //! The layer below the solvers: the world, the dumps, the pictures and the measures read these
 //! without knowing how a step moves them.
 
+use crate::contact::{Contact, Narrow, WallContact};
 use crate::geometry::{Aabb, Vec2};
 use crate::settings::Settings;
 use crate::shape::{HalfPlane, Pose, Superellipse};
@@ -21,7 +22,7 @@ pub struct Body {
     pub calm: u32,
     pub anchor: Vec2,
     /// Where the grain was when it last woke the sleepers by it for drifting: once it is
-    /// [`DRIFT_WAKE`] sleep radii away, however slowly it went, it wakes them again.
+    /// [`crate::solver::DRIFT_WAKE`] sleep radii away, however slowly it went, it wakes them again.
     pub drift_anchor: Vec2,
     /// Steps the grain has been ready to sleep while a neighbour was not (see `update_sleep`).
     pub waiting: u32,
@@ -65,6 +66,23 @@ impl Body {
 
     pub fn bounding_box(&self) -> Aabb {
         self.shape.bounding_box(&self.pose())
+    }
+
+    /// Its contact with `other` at their poses, as `narrow` answers it (the overlap's middle,
+    /// as the paper's projection reads it): what the checks of a state and the pictures use.
+    pub fn contact(&self, other: &Body, narrow: &Narrow) -> Contact {
+        narrow.pair_midpoints(
+            &self.shape,
+            &self.pose(),
+            &other.shape,
+            &other.pose(),
+            &mut None,
+        )
+    }
+
+    /// Its contact with `wall` at its pose, as `narrow` answers it.
+    pub fn wall_contact(&self, wall: &HalfPlane, narrow: &Narrow) -> WallContact {
+        narrow.wall(&self.shape, &self.pose(), wall)
     }
 
     pub fn is_finite(&self) -> bool {

@@ -3,6 +3,7 @@
 //! substeps a wanted overlap takes, the quadtree's depth for stars and walls). Below the bodies
 //! and the solvers, so that the scene, the dump and the viewer read them without the solver.
 
+use crate::contact::{Narrow, NarrowPhase};
 use crate::subdivision::Precision;
 
 /// How the angle evolves.
@@ -23,18 +24,6 @@ pub enum Model {
     /// Rigid grains with mass, friction, restitution and rolling resistance, contacts found once
     /// per step and solved with substeps as soft constraints ([`crate::solver::soft`]).
     Soft,
-}
-
-/// Which narrow phase answers grain-grain and grain-wall contact.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NarrowPhase {
-    /// Certified, for any superellipse: the certified Newton path for convex pairs, the
-    /// quadtree whenever that path has no proof, and for stars.
-    Interval,
-    /// The paper's certified quadtree alone, for every pair.
-    Quadtree,
-    /// Centre distance, for circles only: the paper's comparison (IV-A).
-    Analytic,
 }
 
 /// Solver settings; the defaults are the paper's.
@@ -68,8 +57,8 @@ pub struct Settings {
     /// equilibrium as they fall asleep. The soft model's default ([`Settings::soft`]); off, grain
     /// by grain, as the paper's model sleeps.
     pub sleep_islands: bool,
-    /// End each step with a shock-propagation sweep from the floor up (our addition; see
-    /// [`shock_sweep`]) instead of two closing relaxation sweeps over all grains. Off by default:
+    /// End each step with a shock-propagation sweep from the floor up (our addition; the
+    /// solver's `shock_grain`) instead of two closing relaxation sweeps over all grains. Off by default:
     /// the paper's small scenes rest without it; deep heaps (the 1,000-grain pour, twenty layers)
     /// only rest with it.
     pub shock_propagation: bool,
@@ -80,7 +69,7 @@ pub struct Settings {
     /// [`crate::broad_phase`]).
     pub broad_phase: crate::broad_phase::Kind,
     /// Width of the vertical strips a wide box is cut into so that all cores project at once
-    /// (see [`strips`]); 0, or a box narrower than [`strips::MIN_STRIPS`] strips, keeps the
+    /// (see [`crate::solver::strips`]); 0, or a box narrower than [`crate::solver::strips::MIN_STRIPS`] strips, keeps the
     /// paper's order, one grain after another. Results never depend on the number of threads.
     pub strip_width: f64,
     /// Which dynamics: the paper's projection or the soft step.
@@ -138,18 +127,12 @@ impl Settings {
         }
     }
 
-    /// Pairs with a star (an exponent below 1) are tested two levels deeper: a spike thinner
-    /// than a final cell can otherwise sink unseen into a neighbour, and such contacts flicker
-    /// on and off as grains move, which keeps stars jittering.
-    pub fn star_precision(&self) -> Precision {
-        self.precision.deeper(2)
-    }
-
-    /// Walls are tested three levels deeper than grains: their enclosure is exact and cheap, and
-    /// the spike of a star (exponent < 1) narrower than a final cell can otherwise sink unseen
-    /// into the floor.
-    pub fn wall_precision(&self) -> Precision {
-        self.precision.deeper(3)
+    /// What the solvers ask of the narrow phase: the scene's path and precision.
+    pub fn narrow(&self) -> Narrow {
+        Narrow {
+            phase: self.narrow_phase,
+            precision: self.precision,
+        }
     }
 }
 

@@ -5,8 +5,9 @@
 
 use supergrain::body::Material;
 use supergrain::body::{Body, Walls};
+use supergrain::contact::NarrowPhase;
 use supergrain::geometry::Vec2;
-use supergrain::settings::{Model, NarrowPhase, Settings};
+use supergrain::settings::{Model, Settings};
 use supergrain::shape::{HalfPlane, Pose, Superellipse};
 use supergrain::world::{Queue, World};
 

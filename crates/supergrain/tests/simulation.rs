@@ -639,7 +639,8 @@ fn every_example_scene_file_parses_and_the_preset_files_are_the_presets() {
     // 0.35), not the rice's (0.45, 0.18) nor the blocks' (0.3, 0.35), and the default narrow
     // phase; each group with its own material.
     let auto = 8.0 * 0.35f64.hypot(0.35);
-    use supergrain::settings::{Model, NarrowPhase};
+    use supergrain::contact::NarrowPhase;
+    use supergrain::settings::Model;
     for (name, grains, width, narrow) in [
         ("pour-1000", 1000, auto, NarrowPhase::Interval),
         ("pour-10k", 10_000, auto, NarrowPhase::Interval),

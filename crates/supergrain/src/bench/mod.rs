@@ -271,7 +271,7 @@ pub struct PresetResult {
 /// and for each scene its fastest run. Runs are identical bit for bit, so only the time varies.
 /// `seed`: instead of each preset's own.
 pub fn preset_cases(steps: u64, runs: usize, seed: Option<u64>) -> Vec<PresetResult> {
-    use crate::settings::NarrowPhase;
+    use crate::contact::NarrowPhase;
     use crate::world::{Scene, World};
     let mut scenes: Vec<(String, Scene)> = crate::world::PRESETS
         .iter()

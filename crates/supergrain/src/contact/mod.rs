@@ -8,6 +8,7 @@ mod boundary;
 mod certified;
 mod disk_disk;
 pub mod manifold;
+mod narrow;
 mod push;
 mod ray;
 mod regions;
@@ -17,6 +18,7 @@ mod superellipse_wall;
 
 pub use certified::WarmStart;
 pub use disk_disk::{disk_disk, disk_disk_certified};
+pub use narrow::{Narrow, NarrowPhase};
 pub use ray::{ray_to_boundary, ray_to_convex_boundary};
 pub use regions::{COVER_DEPTH, overlap_regions};
 pub use superellipse_superellipse::{

@@ -16,14 +16,10 @@ pub use response::{project, safe_push};
 
 use crate::body::{Body, Walls};
 use crate::broad_phase::BroadPhase;
-use crate::contact::{
-    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_quadtree_midpoints,
-    contact_wall, contact_wall_quadtree, contact_warm_midpoints, disk_disk,
-};
+use crate::contact::{Contact, WarmStart};
 use crate::geometry::{Aabb, Vec2};
-use crate::settings::{NarrowPhase, Rotation, Settings};
+use crate::settings::{Rotation, Settings};
 use crate::shape::{HalfPlane, Pose};
-use crate::subdivision::Precision;
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -42,93 +38,6 @@ pub struct StepStats {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("the step was abandoned: a stop was requested")]
 pub struct Stopped;
-
-/// The quadtree's precision for a pair: two levels deeper when a star is in it.
-fn pair_precision(settings: &Settings, a: &Body, b: &Body) -> Precision {
-    if a.shape.is_star() || b.shape.is_star() {
-        settings.star_precision()
-    } else {
-        settings.precision
-    }
-}
-
-/// Grain-grain contact by the chosen narrow phase.
-pub fn grain_contact(settings: &Settings, a: &Body, b: &Body) -> Contact {
-    grain_contact_at(settings, a, &a.pose(), b, &b.pose(), None)
-}
-
-/// [`grain_contact`] with the grains' poses already known (the step keeps them, so that a
-/// test computes no sine or cosine), and, for the interval narrow phase, where this pair's last
-/// test in the step found its deepest points (`warm`, updated; `None`: a cold start).
-fn grain_contact_at(
-    settings: &Settings,
-    a: &Body,
-    pose_a: &Pose,
-    b: &Body,
-    pose_b: &Pose,
-    warm: Option<&mut Option<WarmStart>>,
-) -> Contact {
-    match settings.narrow_phase {
-        NarrowPhase::Interval => {
-            let mut cold = None;
-            contact_warm_midpoints(
-                &a.shape,
-                pose_a,
-                &b.shape,
-                pose_b,
-                &pair_precision(settings, a, b),
-                warm.unwrap_or(&mut cold),
-            )
-        }
-        NarrowPhase::Quadtree => contact_quadtree_midpoints(
-            &a.shape,
-            pose_a,
-            &b.shape,
-            pose_b,
-            &pair_precision(settings, a, b),
-        ),
-        NarrowPhase::Analytic => {
-            let (ra, rb) = (a.shape.semi_axes().x, b.shape.semi_axes().x);
-            let penetration = disk_disk(a.center, ra, b.center, rb).map(|(n, depth)| Penetration {
-                a_deepest: a.center + n * ra,
-                b_deepest: b.center - n * rb,
-                a_push: n * -depth,
-                b_push: n * depth,
-            });
-            Contact {
-                penetration,
-                cells: 0,
-            }
-        }
-    }
-}
-
-/// Grain-wall contact by the chosen narrow phase.
-pub fn wall_contact(settings: &Settings, a: &Body, wall: &HalfPlane) -> WallContact {
-    wall_contact_at(settings, a, &a.pose(), wall)
-}
-
-/// [`wall_contact`] with the grain's pose already known.
-fn wall_contact_at(settings: &Settings, a: &Body, pose: &Pose, wall: &HalfPlane) -> WallContact {
-    match settings.narrow_phase {
-        NarrowPhase::Interval => contact_wall(&a.shape, pose, wall, &settings.wall_precision()),
-        NarrowPhase::Quadtree => {
-            contact_wall_quadtree(&a.shape, pose, wall, &settings.wall_precision())
-        }
-        NarrowPhase::Analytic => {
-            let r = a.shape.semi_axes().x;
-            let deepest = a.center - wall.normal() * r;
-            let g = wall.value(deepest);
-            WallContact {
-                penetration: (g < 0.0).then(|| WallPenetration {
-                    deepest,
-                    push: wall.normal() * -g,
-                }),
-                cells: 0,
-            }
-        }
-    }
-}
 
 /// Reusable buffers, so a step allocates nothing once warm.
 #[derive(Debug, Default)]
@@ -528,7 +437,10 @@ fn resolve<B: BroadPhase>(
             continue;
         }
         stats.tests += 1;
-        if let Some(p) = wall_contact_at(settings, &bodies[i], &work.poses[i], wall).penetration {
+        let contact = settings
+            .narrow()
+            .wall(&bodies[i].shape, &work.poses[i], wall);
+        if let Some(p) = contact.penetration {
             // Walls do not move: the grain takes the whole correction.
             let push = safe_push(p.push, wall.normal(), cap(&bodies[i]));
             project(&mut bodies[i], p.deepest, push, 1.0, settings.slop);
@@ -554,12 +466,13 @@ fn resolve<B: BroadPhase>(
         stats.tests += 1;
         let (a, b) = (&bodies[i], &bodies[j]);
         let (pose_a, pose_b) = (&work.poses[i], &work.poses[j]);
-        let found = if warm_pair(settings, a, b) {
+        let narrow = settings.narrow();
+        let found = if narrow.starts_warm(&a.shape, &b.shape) {
             with_warm_start(&mut work.warm, (i, j), |warm| {
-                grain_contact_at(settings, a, pose_a, b, pose_b, Some(warm))
+                narrow.pair_midpoints(&a.shape, pose_a, &b.shape, pose_b, warm)
             })
         } else {
-            grain_contact_at(settings, a, pose_a, b, pose_b, None)
+            narrow.pair_midpoints(&a.shape, pose_a, &b.shape, pose_b, &mut None)
         };
         if let Some(p) = found.penetration {
             let away = bodies[i].center - bodies[j].center;
@@ -590,15 +503,6 @@ fn resolve<B: BroadPhase>(
         }
     }
     hit
-}
-
-/// Whether a pair's Newton solves start where its last test in the step ended: a persisting
-/// contact is tested again at every pass (seven times a step on average in the circles preset),
-/// after small moves, and Newton then needs about half the iterations (3 against 6 for
-/// ellipses, `cargo bench --bench references`). Not for two circles: from the line between
-/// their centres Newton starts on the answer, which a warm start, moved with the grains, is not.
-fn warm_pair(settings: &Settings, a: &Body, b: &Body) -> bool {
-    settings.narrow_phase == NarrowPhase::Interval && !(a.shape.is_circle() && b.shape.is_circle())
 }
 
 /// Runs `test` from the pair's warm start, if it has one, and keeps what the test leaves: the

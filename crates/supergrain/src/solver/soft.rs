@@ -37,16 +37,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use super::carry::Carried;
-use super::{StepStats, Stopped, pair_precision};
+use super::{StepStats, Stopped};
 use crate::body::{Body, Material, Walls, material_of, mix};
 use crate::broad_phase::Near;
 use crate::contact::manifold::{Manifold, ManifoldPoint, grain_manifold, wall_manifold};
-use crate::contact::{
-    Contact, Penetration, WarmStart, contact_quadtree, contact_wall, contact_wall_quadtree,
-    contact_warm, disk_disk, disk_disk_certified,
-};
+use crate::contact::{NarrowPhase, WarmStart};
 use crate::geometry::{Aabb, Rotation, Vec2};
-use crate::settings::{NarrowPhase, Settings, SoftSettings};
+use crate::settings::{Settings, SoftSettings};
 use crate::shape::{HalfPlane, Pose};
 
 /// The coefficients of a soft constraint of frequency `hertz` and damping ratio `zeta`, for a
@@ -499,42 +496,6 @@ fn relative(s: &State, c: &Constraint, p: &Point) -> Vec2 {
     (vb + spin(wb, p.rb)) - (va + spin(wa, p.ra))
 }
 
-/// The narrow phase's answer for a pair, certified (the sound answers: the half-axis search
-/// and pushes that separate), at the given poses.
-fn pair_contact(
-    settings: &Settings,
-    a: &Body,
-    pa: &Pose,
-    b: &Body,
-    pb: &Pose,
-    warm: &mut Option<WarmStart>,
-) -> Contact {
-    let precision = pair_precision(settings, a, b);
-    match settings.narrow_phase {
-        NarrowPhase::Interval if a.shape.is_circle() && b.shape.is_circle() => disk_disk_certified(
-            pa.center(),
-            a.shape.semi_axes().x,
-            pb.center(),
-            b.shape.semi_axes().x,
-        ),
-        NarrowPhase::Interval => contact_warm(&a.shape, pa, &b.shape, pb, &precision, warm),
-        NarrowPhase::Quadtree => contact_quadtree(&a.shape, pa, &b.shape, pb, &precision),
-        NarrowPhase::Analytic => {
-            let (ra, rb) = (a.shape.semi_axes().x, b.shape.semi_axes().x);
-            let (ca, cb) = (pa.center(), pb.center());
-            Contact {
-                penetration: disk_disk(ca, ra, cb, rb).map(|(n, depth)| Penetration {
-                    a_deepest: ca + n * ra,
-                    b_deepest: cb - n * rb,
-                    a_push: n * -depth,
-                    b_push: n * depth,
-                }),
-                cells: 0,
-            }
-        }
-    }
-}
-
 /// A pair to test: the grains and the warm start of their last contact.
 type PairEntry = (usize, usize, Option<WarmStart>);
 
@@ -552,6 +513,7 @@ fn find_contacts(
     stop: &AtomicBool,
 ) -> Result<StepStats, Stopped> {
     let h = settings.step;
+    let narrow = settings.narrow();
     let fall = Vec2::new(0.0, -settings.gravity * h);
     work.predicted.clear();
     work.predicted.extend(bodies.iter().map(|b| {
@@ -634,7 +596,7 @@ fn find_contacts(
                 return Some((Some(m), warm, Some(*c)));
             }
             let mut warm = warm;
-            let c = pair_contact(settings, a, pa, b, pb, &mut warm);
+            let c = narrow.pair(&a.shape, pa, &b.shape, pb, &mut warm);
             // The manifold here too, on all cores: a blocky pair's patch search costs more than
             // its narrow phase.
             let Some(p) = c.penetration else {
@@ -689,7 +651,6 @@ fn find_contacts(
             ));
         }
     }
-    let wall_precision = settings.wall_precision();
     let wall_boxes: Vec<Aabb> = walls.iter().map(HalfPlane::bounding_box).collect();
     let (awake, boxes) = (&work.awake, &work.boxes);
     // Each awake grain against each wall whose box it meets, on all cores, collected in the
@@ -708,12 +669,7 @@ fn find_contacts(
                     continue;
                 }
                 tests += 1;
-                let c = match settings.narrow_phase {
-                    NarrowPhase::Quadtree => {
-                        contact_wall_quadtree(&b.shape, pose, wall, &wall_precision)
-                    }
-                    _ => contact_wall(&b.shape, pose, wall, &wall_precision),
-                };
+                let c = narrow.wall(&b.shape, pose, wall);
                 let m = match c.penetration {
                     Some(p) => Some(wall_manifold(&b.shape, pose, wall, &p, PATCH_REACH)),
                     None if disks[i] => {

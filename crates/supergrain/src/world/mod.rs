@@ -18,7 +18,7 @@ use crate::geometry::{Aabb, Vec2};
 use crate::settings::{Model, Settings};
 use crate::shape::{HalfPlane, Pose};
 use crate::solver::soft::{self, SoftWorkspace};
-use crate::solver::{self, StepStats, Stopped, Workspace, grain_contact, wall_contact};
+use crate::solver::{self, StepStats, Stopped, Workspace};
 
 /// Grains, walls, settings and the spawn queue.
 #[derive(Debug)]
@@ -200,7 +200,7 @@ impl World {
                 || (fair
                     && planes
                         .iter()
-                        .any(|w| wall_contact(settings, &body, w).overlap()))
+                        .any(|w| body.wall_contact(w, &settings.narrow()).overlap()))
             {
                 return false;
             }
@@ -410,6 +410,7 @@ impl World {
     /// the walls. Pairs come from a grid, so this takes time linear in the number of grains.
     pub fn contacts(&self, mut f: impl FnMut(Touch)) {
         let walls = self.walls.half_planes();
+        let narrow = self.settings.narrow();
         let boxes: Vec<Aabb> = self.bodies.iter().map(Body::bounding_box).collect();
         let mut grid = Grid::new();
         grid.rebuild(&boxes);
@@ -418,12 +419,12 @@ impl World {
             near.clear();
             grid.candidates(i, &boxes, &mut near);
             for &j in near.iter().filter(|&&j| j > i) {
-                if let Some(p) = grain_contact(&self.settings, a, &self.bodies[j]).penetration {
+                if let Some(p) = a.contact(&self.bodies[j], &narrow).penetration {
                     f(Touch::Grains(i, j, p));
                 }
             }
             for w in &walls {
-                if let Some(p) = wall_contact(&self.settings, a, w).penetration {
+                if let Some(p) = a.wall_contact(w, &narrow).penetration {
                     f(Touch::Wall(i, p));
                 }
             }
@@ -521,7 +522,7 @@ fn overlaps_any(
     bodies
         .iter()
         .zip(boxes)
-        .any(|(o, ob)| ob.intersects(bb) && grain_contact(settings, body, o).overlap())
+        .any(|(o, ob)| ob.intersects(bb) && body.contact(o, &settings.narrow()).overlap())
 }
 
 /// Whose material [`World::set_material`] changes.
@@ -545,7 +546,7 @@ pub enum Touch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::settings::NarrowPhase;
+    use crate::contact::NarrowPhase;
     use crate::subdivision::Precision;
 
     /// The mixed preset with slow steps (the quadtree at depth 12), so that a flag raised at
