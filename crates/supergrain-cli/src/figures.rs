@@ -12,7 +12,7 @@ use supergrain::io::write_png;
 use supergrain::render::{Colouring, Show, Style, collision_png, render_world, wall_png};
 use supergrain::shape::{Pose, Superellipse};
 use supergrain::subdivision::Precision;
-use supergrain::world::{Scene, World};
+use supergrain::world::{Rest, RestCounter, Scene, World};
 use tiny_skia::Pixmap;
 
 use crate::output::Output;
@@ -56,14 +56,12 @@ fn save(dir: &Path, name: &str, pixmap: &Pixmap) -> Result<()> {
 fn settle(name: &str) -> World {
     let scene = Scene::preset(name).expect("a preset");
     let mut world = World::new(&scene);
-    let mut calm = 0;
-    while world.step < 8000 && calm < 100 {
+    let mut calm = RestCounter::default();
+    while world.step < 8000 {
         world.step();
-        calm = if world.all_spawned() && world.max_speed() < 0.05 {
-            calm + 1
-        } else {
-            0
-        };
+        if calm.after_step(&Rest::default(), &world) {
+            break;
+        }
     }
     world
 }

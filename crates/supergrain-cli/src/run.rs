@@ -18,7 +18,7 @@ use supergrain::io::{
 use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::settings::Model;
 use supergrain::world::checks::short;
-use supergrain::world::{PRESETS, Scene, World};
+use supergrain::world::{PRESETS, Rest, RestCounter, Scene, World};
 
 use crate::output::{Folder, Output, Plans, Target};
 use crate::picture::{PictureArgs, check_size, save_frame, save_png};
@@ -287,7 +287,11 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let start = Instant::now();
     let (mut last_shown, mut last_logged) = (start, start);
     let mut contacts = 0u64;
-    let mut calm = 0u64;
+    let rest = Rest {
+        speed: args.rest_speed,
+        steps: REST_STEPS,
+    };
+    let mut calm = RestCounter::default();
     let mut done = 0u64;
     // A stream that fails (its folder removed, a full disk) is dropped with its error; the run
     // and the other outputs go on.
@@ -390,11 +394,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
             eprintln!("warning: checkpoint at step {}: {e:#}", world.step);
         }
         let fastest = world.max_speed();
-        calm = if world.all_spawned() && fastest < args.rest_speed {
-            calm + 1
-        } else {
-            0
-        };
+        let at_rest = calm.update(&rest, world.all_spawned(), fastest);
         if k % 50 == 0 || last_shown.elapsed().as_secs_f64() >= 1.0 {
             last_shown = Instant::now();
             let state = format!(
@@ -416,7 +416,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 );
             }
         }
-        if args.until_rest && calm >= REST_STEPS {
+        if args.until_rest && at_rest {
             break;
         }
     }
@@ -522,7 +522,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
                 world.step
             );
         } else if args.until_rest {
-            if calm >= REST_STEPS {
+            if calm.at_rest(&rest) {
                 eprintln!(
                     "at rest at step {}: no grain faster than {} for {REST_STEPS} steps",
                     world.step,
@@ -581,7 +581,7 @@ fn stop_on_interrupt() -> Arc<AtomicBool> {
 const LOG_SECONDS: f64 = 30.0;
 
 /// Steps in a row under --rest-speed that count as rest.
-const REST_STEPS: u64 = 100;
+const REST_STEPS: u32 = 100;
 
 fn non_negative_number(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {

@@ -6,7 +6,8 @@ use std::time::Instant;
 
 use crate::overlap::{self, Resting};
 use crate::peer::{Error, Peer};
-use crate::scene::{Rest, RestCounter, Scene, Spawner};
+use crate::scene::{Rest, Scene, Spawner};
+use supergrain::world::RestCounter;
 
 /// A heap's steps, measured.
 #[derive(Clone, Debug, PartialEq)]
@@ -116,7 +117,7 @@ pub fn pour<P: Peer>(scene: &Scene, threads: usize, rest: &Rest) -> Result<PourT
         }
         peer.step()?;
         steps += 1;
-        at_rest = calm.update(rest, spawner.is_empty(), peer.fastest()?);
+        at_rest = calm.update(&rest.criterion(), spawner.is_empty(), peer.fastest()?);
     }
     let seconds = start.elapsed().as_secs_f64();
     peer.grains(&mut placed)?;

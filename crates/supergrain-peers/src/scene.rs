@@ -6,7 +6,7 @@
 use std::fmt;
 
 use supergrain::shape::Superellipse;
-use supergrain::world::{Scene as SupergrainScene, World};
+use supergrain::world::{RestCounter, Scene as SupergrainScene, World};
 
 /// A grain's shape in the peers' vocabulary. Lengths in the scene's units (metres for the peers).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -241,21 +241,13 @@ impl Default for Rest {
     }
 }
 
-/// Counts the steps in a row at rest.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct RestCounter {
-    calm: u32,
-}
-
-impl RestCounter {
-    /// After a step: whether the pour is now at rest.
-    pub fn update(&mut self, rest: &Rest, all_spawned: bool, fastest: f64) -> bool {
-        self.calm = if all_spawned && fastest < rest.speed {
-            self.calm + 1
-        } else {
-            0
-        };
-        self.calm >= rest.steps
+impl Rest {
+    /// The criterion alone, as supergrain's [`RestCounter`] counts it for every engine.
+    pub fn criterion(&self) -> supergrain::world::Rest {
+        supergrain::world::Rest {
+            speed: self.speed,
+            steps: self.steps,
+        }
     }
 }
 

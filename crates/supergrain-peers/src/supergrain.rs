@@ -5,17 +5,15 @@
 
 use std::time::Instant;
 
-use supergrain::body::Body;
-use supergrain::body::Material;
+use supergrain::body::{Body, Material};
 use supergrain::geometry::Vec2;
-use supergrain::settings::SoftSettings;
-use supergrain::settings::{Model, Settings};
+use supergrain::settings::{Model, Settings, SoftSettings};
 use supergrain::solver::strips::WIDTH_IN_RADII;
-use supergrain::world::{Scene, SpawnRule, World};
+use supergrain::world::{RestCounter, Scene, SpawnRule, World};
 
 use crate::overlap::{self, Resting};
 use crate::run::{HeapTiming, PourTiming, median};
-use crate::scene::{Grain, Rest, RestCounter, Shape};
+use crate::scene::{Grain, Rest, Shape};
 
 pub const NAME: &str = "supergrain";
 pub const SOFT: &str = "supergrain-soft";
@@ -171,7 +169,7 @@ pub fn pour(scene: &Scene, threads: usize, rest: &Rest) -> PourTiming {
         while steps < rest.max_steps && !at_rest {
             world.step();
             steps += 1;
-            at_rest = calm.update(rest, world.all_spawned(), world.max_speed());
+            at_rest = calm.after_step(&rest.criterion(), &world);
         }
         PourTiming {
             grains,

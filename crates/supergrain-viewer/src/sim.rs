@@ -2,8 +2,7 @@
 //! on it ([`Command`]) and what a frame draws of it ([`Snapshot`]). Everything here runs and is
 //! tested without a display; the window only sends commands and draws snapshots.
 
-use supergrain::body::Body;
-use supergrain::body::Material;
+use supergrain::body::{Body, Material};
 use supergrain::contact::{Penetration, WallPenetration};
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;

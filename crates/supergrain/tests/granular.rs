@@ -11,7 +11,7 @@ use supergrain::body::Material;
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::measure::repose::{self, Pour};
 use supergrain::measure::{Disk, packing};
-use supergrain::world::World;
+use supergrain::world::{Rest, RestCounter, World};
 
 fn window(x0: f64, y0: f64, x1: f64, y1: f64) -> Aabb {
     Aabb::new(Vec2::new(x0, y0), Vec2::new(x1, y1))
@@ -158,18 +158,14 @@ fn bidisperse_pour(friction: f64, solver: &str) -> (Vec<Disk>, u64) {
     );
     let scene = supergrain::world::Scene::from_toml(&text).expect("a valid scene");
     let mut w = World::new(&scene);
-    let mut calm = 0;
-    while calm < 100 {
+    let mut calm = RestCounter::default();
+    while !calm.at_rest(&Rest::default()) {
         assert!(
             w.step < 6000,
             "friction {friction}, {solver:?}: not at rest by step 6000"
         );
         w.step();
-        calm = if w.all_spawned() && w.max_speed() < 0.05 {
-            calm + 1
-        } else {
-            0
-        };
+        calm.after_step(&Rest::default(), &w);
     }
     let disks = w
         .bodies

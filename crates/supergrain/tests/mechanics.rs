@@ -3,8 +3,7 @@
 //! a column and a pyramid of blocks that stand. Each compares with a closed form, not with the
 //! code's own output.
 
-use supergrain::body::Material;
-use supergrain::body::{Body, Walls};
+use supergrain::body::{Body, Material, Walls};
 use supergrain::contact::NarrowPhase;
 use supergrain::geometry::Vec2;
 use supergrain::settings::{Model, Settings};

@@ -5,7 +5,7 @@
 
 use supergrain::geometry::Vec2;
 use supergrain::solver::soft::STATIC;
-use supergrain::world::{Scene, World};
+use supergrain::world::{Rest, RestCounter, Scene, World};
 
 const G: f64 = 9.8;
 
@@ -13,10 +13,10 @@ const G: f64 = 9.8;
 /// (the CLI's `--until-rest`), at most `limit` steps. Returns the step at which all grains were
 /// in, and the fastest grain seen from `settle` steps after that on.
 fn until_rest(world: &mut World, limit: u64, settle: u64) -> (u64, f64) {
-    let mut calm = 0;
+    let mut calm = RestCounter::default();
     let mut all_in: Option<u64> = None;
     let mut fastest = 0.0f64;
-    while calm < 100 {
+    while !calm.at_rest(&Rest::default()) {
         assert!(world.step < limit, "not at rest by step {limit}");
         world.step();
         if all_in.is_none() && world.all_spawned() {
@@ -25,11 +25,7 @@ fn until_rest(world: &mut World, limit: u64, settle: u64) -> (u64, f64) {
         if all_in.is_some_and(|at| world.step > at + settle) {
             fastest = fastest.max(world.max_speed());
         }
-        calm = if world.all_spawned() && world.max_speed() < 0.05 {
-            calm + 1
-        } else {
-            0
-        };
+        calm.after_step(&Rest::default(), world);
     }
     (all_in.expect("all in"), fastest)
 }

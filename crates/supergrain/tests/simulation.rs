@@ -8,7 +8,7 @@ use std::f64::consts::TAU;
 use proptest::prelude::*;
 use supergrain::io::Dump;
 use supergrain::solver::strips::Strips;
-use supergrain::world::{Group, Range, Scene, World};
+use supergrain::world::{Group, Range, Rest, RestCounter, Scene, World};
 
 /// Boundary samples of a grain, from the superellipse's parametric form written here again.
 fn samples(sx: f64, sy: f64, ex: f64, ey: f64, c: [f64; 2], angle: f64, n: usize) -> Vec<[f64; 2]> {
@@ -101,15 +101,14 @@ fn run_to_rest(scene: &Scene, rest: f64, cap: u64) -> World {
 /// Steps `world` until every grain has appeared and the fastest grain is slower than `rest` for
 /// 100 steps running: how many steps that took, or `None` after `cap` steps.
 fn steps_to_rest(world: &mut World, rest: f64, cap: u64) -> Option<u64> {
-    let mut calm = 0;
+    let rest = Rest {
+        speed: rest,
+        steps: 100,
+    };
+    let mut calm = RestCounter::default();
     for n in 1..=cap {
         world.step();
-        calm = if world.all_spawned() && world.max_speed() < rest {
-            calm + 1
-        } else {
-            0
-        };
-        if calm >= 100 {
+        if calm.after_step(&rest, world) {
             return Some(n);
         }
     }

@@ -7,14 +7,12 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
-use crate::body::{Body, Walls};
-use crate::body::{Material, material_of};
+use crate::body::{Body, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
 use crate::geometry::Vec2;
-use crate::settings::SoftSettings;
-use crate::settings::{Model, Rotation, Settings};
+use crate::settings::{Model, Rotation, Settings, SoftSettings};
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
 use crate::solver::soft::{Kept, MAX_WALLS, STATIC};

@@ -29,12 +29,11 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use super::Disk;
-use crate::body::Material;
-use crate::body::{Body, Walls};
+use crate::body::{Body, Material, Walls};
 use crate::geometry::Vec2;
 use crate::settings::Settings;
 use crate::shape::{Pose, Superellipse};
-use crate::world::{Queue, World};
+use crate::world::{Queue, Rest, RestCounter, World};
 
 /// The pour's parameters (see the module docs). The floor is at `y = 0`, the source over
 /// `x = 0`.
@@ -156,7 +155,11 @@ pub fn pour<P: Pile>(pile: &mut P, pour: &Pour) -> Result<Poured, P::Error> {
     let mut disks = Vec::with_capacity(draws.len());
     let mut next = 0;
     let mut steps = 0;
-    let mut calm = 0;
+    let rest = Rest {
+        speed: pour.rest_speed,
+        steps: pour.rest_steps,
+    };
+    let mut calm = RestCounter::default();
     while steps < pour.max_steps {
         if next < draws.len() && steps % pour.interval.max(1) == 0 {
             let (r, x) = draws[next];
@@ -171,12 +174,14 @@ pub fn pour<P: Pile>(pile: &mut P, pour: &Pour) -> Result<Poured, P::Error> {
         }
         pile.step()?;
         steps += 1;
-        calm = if next == draws.len() && pile.fastest()? < pour.rest_speed {
-            calm + 1
+        // (The fastest grain asked for only once all are in, as each engine's query costs.)
+        let all_in = next == draws.len();
+        let fastest = if all_in {
+            pile.fastest()?
         } else {
-            0
+            f64::INFINITY
         };
-        if calm >= pour.rest_steps {
+        if calm.update(&rest, all_in, fastest) {
             break;
         }
     }
@@ -184,7 +189,7 @@ pub fn pour<P: Pile>(pile: &mut P, pour: &Pour) -> Result<Poured, P::Error> {
     Ok(Poured {
         disks,
         steps,
-        at_rest: calm >= pour.rest_steps,
+        at_rest: calm.at_rest(&rest),
         seconds: start.elapsed().as_secs_f64(),
     })
 }

@@ -6,8 +6,7 @@
 
 use super::Range;
 use super::spawn::{BAND_IN_RADII, SpawnRule};
-use crate::body::Material;
-use crate::body::{Body, Walls};
+use crate::body::{Body, Material, Walls};
 use crate::contact::Penetration;
 use crate::geometry::{Aabb, Vec2};
 use crate::settings::{Model, Settings};

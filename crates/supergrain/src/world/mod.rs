@@ -2,16 +2,17 @@
 //! solver stepping them. It knows nothing of pixels or files.
 
 pub mod checks;
+mod rest;
 mod scene;
 mod spawn;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+pub use rest::{Rest, RestCounter};
 pub use scene::{Group, PRESETS, Range, Scene, SceneError};
 pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
-use crate::body::Material;
-use crate::body::{Body, Walls};
+use crate::body::{Body, Material, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
@@ -33,7 +34,7 @@ pub struct World {
     /// The grains still to appear.
     pub pending: Queue,
     /// Each scene group's material, by [`Body::group`] (the soft step's; see
-    /// [`soft::Material`]).
+    /// [`Material`]).
     pub materials: Vec<Material>,
     pub wall_material: Material,
     /// Walls at any angle besides the box's three (inclined planes), of the wall material;

@@ -9,13 +9,11 @@ use serde::{Deserialize, Serialize};
 
 use super::checks;
 use super::spawn::SpawnRule;
-use crate::body::Material;
-use crate::body::Walls;
+use crate::body::{Material, Walls};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::geometry::Vec2;
-use crate::settings::SoftSettings;
-use crate::settings::{Model, Rotation, Settings};
+use crate::settings::{Model, Rotation, Settings, SoftSettings};
 use crate::shape::{HalfPlane, ShapeError, Superellipse};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
