@@ -8,10 +8,31 @@ use crate::geometry::{Aabb, Vec2};
 use crate::settings::Settings;
 use crate::shape::{HalfPlane, Pose, Superellipse};
 
+/// A body's name for as long as the world lives: given in the order bodies join it (the first
+/// grain to appear is 0), never given again when a body leaves, kept in dumps. Trajectories,
+/// VTK frames and the forces name grains by it, so a grain can be followed across frames and
+/// across grains that leave.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct BodyId(pub u64);
+
+impl BodyId {
+    /// A body not yet in a world: the world names it when it joins ([`crate::world::World::add`],
+    /// or the next step for one pushed onto `bodies`).
+    pub const NEW: BodyId = BodyId(u64::MAX);
+}
+
+impl std::fmt::Display for BodyId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
 /// A grain: its shape, where it is and where it was one step ago (Verlet keeps velocity
 /// implicit).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Body {
+    /// Its stable name ([`BodyId`]); [`BodyId::NEW`] until it joins a world.
+    pub id: BodyId,
     pub shape: Superellipse,
     pub center: Vec2,
     pub angle: f64,
@@ -40,6 +61,7 @@ impl Body {
     /// A body at rest.
     pub fn at_rest(shape: Superellipse, pose: &Pose) -> Self {
         Body {
+            id: BodyId::NEW,
             shape,
             center: pose.center(),
             angle: pose.angle(),

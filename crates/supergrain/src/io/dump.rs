@@ -7,7 +7,7 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
-use crate::body::{Body, Material, Walls, material_of};
+use crate::body::{Body, BodyId, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
@@ -31,6 +31,10 @@ pub struct WallsJson {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParticleJson {
+    /// Its [`BodyId`]; absent: its index in `particles` (every dump written before grains
+    /// could leave, and any grain whose id is its index).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<u64>,
     pub center: [f64; 2],
     pub angle: f64,
     pub semi_axes: [f64; 2],
@@ -300,6 +304,11 @@ pub struct Dump {
     /// The soft step's contacts kept for the next step.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactJson>,
+    /// The id the next body to join gets; absent: one past the largest id of `particles` (0
+    /// for none): written only once a body has left with the largest id, which no later body
+    /// may take.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub next_id: Option<u64>,
 }
 
 /// Why a dump cannot be resumed.
@@ -355,6 +364,7 @@ impl Dump {
                 .map(|(i, b)| {
                     let shape = ShapeJson::from_shape(&b.shape, &b.pose());
                     ParticleJson {
+                        id: (b.id != BodyId(i as u64)).then_some(b.id.0),
                         center: shape.center,
                         angle: shape.angle,
                         semi_axes: shape.semi_axes,
@@ -450,6 +460,8 @@ impl Dump {
             } else {
                 Vec::new()
             },
+            next_id: (world.next_id() != implied_next_id(world.bodies.iter().map(|b| b.id)))
+                .then_some(world.next_id().0),
         }
     }
 
@@ -609,6 +621,7 @@ impl Dump {
                 .map_err(|error| DumpError::Particle { index, error })?;
             let v = Vec2::from(p.velocity);
             let body = Body {
+                id: BodyId(p.id.unwrap_or(index as u64)),
                 shape,
                 center: pose.center(),
                 angle: pose.angle(),
@@ -776,7 +789,35 @@ impl Dump {
             Some(m) => m.to_material("wall_material")?,
         };
         let n = bodies.len();
+        let mut ids = std::collections::HashSet::with_capacity(n);
+        for (index, b) in bodies.iter().enumerate() {
+            if b.id == BodyId::NEW {
+                return Err(DumpError::Unworkable(format!(
+                    "particle {index}: id {} is reserved (a body not yet in a world)",
+                    b.id
+                )));
+            }
+            if !ids.insert(b.id) {
+                return Err(DumpError::Unworkable(format!(
+                    "particle {index}: id {} is taken by an earlier particle",
+                    b.id
+                )));
+            }
+        }
+        let implied = implied_next_id(bodies.iter().map(|b| b.id));
+        let next_id = match self.next_id {
+            None => implied,
+            Some(n) if n >= implied.0 && n < BodyId::NEW.0 => BodyId(n),
+            Some(n) => {
+                return Err(DumpError::Unworkable(format!(
+                    "next_id {n} must be above every particle's id (at least {implied}) and \
+                     below {}",
+                    BodyId::NEW
+                )));
+            }
+        };
         let mut world = World::from_parts(bodies, walls, settings, self.step, top, pending);
+        world.name_from(next_id);
         world.materials = materials;
         world.wall_material = wall_material;
         if self.planes.len() + 3 > MAX_WALLS {
@@ -959,6 +1000,12 @@ impl Dump {
         }
         Ok(world)
     }
+}
+
+/// The next id a world of bodies named `ids` gives when nothing says otherwise: one past the
+/// largest (0 for none).
+fn implied_next_id(ids: impl Iterator<Item = BodyId>) -> BodyId {
+    BodyId(ids.map(|id| id.0 + 1).max().unwrap_or(0))
 }
 
 /// The soft step's kept contacts, in the order of their pairs (a dump is the same for the same

@@ -22,8 +22,8 @@ pub fn trajectory_header(world: &World) -> String {
     }
 }
 
-/// Appends one frame of the trajectory: a row per grain, `id` its order of appearance (the
-/// columns of [`trajectory_header`]).
+/// Appends one frame of the trajectory: a row per grain, `id` its [`crate::body::BodyId`] (its
+/// order of appearance, never reused when grains leave; the columns of [`trajectory_header`]).
 pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let time = world.step as f64 * world.settings.step;
     let soft = world.settings.model == Model::Soft;
@@ -36,7 +36,7 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
             "{},{},{},{},{},{},{},{},{},{},{},{},{}",
             world.step,
             time,
-            i,
+            b.id,
             b.center.x,
             b.center.y,
             b.angle,
@@ -63,8 +63,8 @@ pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result
 }
 
 /// One frame as a legacy-format VTK point file: grain centres as points, with the grain's id
-/// (its order of appearance, the trajectory's `id`, so a grain can be followed from frame to
-/// frame), the semi-axes, the local x axis, exponents, superquadric roundness (2 / exponent),
+/// (its [`crate::body::BodyId`], the trajectory's `id`, so a grain can be followed from frame
+/// to frame), the semi-axes, the local x axis, exponents, superquadric roundness (2 / exponent),
 /// angle, velocity and scene group as point data, so that ParaView can glyph them (see docs/reference.md); for the soft
 /// model also the material, mass and moment of inertia ([`MATERIAL_COLUMNS`]'s names).
 pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
@@ -84,8 +84,8 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     writeln!(out, "POINT_DATA {n}")?;
     writeln!(out, "SCALARS id int 1")?;
     writeln!(out, "LOOKUP_TABLE default")?;
-    for i in 0..n {
-        writeln!(out, "{i}")?;
+    for b in &world.bodies {
+        writeln!(out, "{}", b.id)?;
     }
     // Three components: ParaView's glyph scale wants 3-vectors; z is a nominal thickness.
     writeln!(out, "VECTORS semi_axes double")?;
@@ -159,15 +159,16 @@ pub fn write_vtk_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
 /// The header of `run --forces`: one row per contact of the soft model.
 pub const FORCES_HEADER: &str = "step,time,a,b,wall,x,y,nx,ny,normal_force,tangent_force";
 
-/// One frame of `run --forces`: each contact's grains (`b` empty and `wall` set for a wall:
+/// One frame of `run --forces`: each contact's grains by id (`b` empty and `wall` set for a wall:
 /// 0 left, 1 right, 2 floor, then the planes), point, normal from A to B, and the normal and
 /// tangential force on B.
 pub fn write_forces_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
     let time = world.step as f64 * world.settings.step;
+    let id = |i: usize| world.bodies[i].id.to_string();
     for f in &world.soft.forces {
         let (a, b, wall) = match f.wall {
-            Some(w) => (f.b.to_string(), String::new(), w.to_string()),
-            None => (f.a.to_string(), f.b.to_string(), String::new()),
+            Some(w) => (id(f.b), String::new(), w.to_string()),
+            None => (id(f.a), id(f.b), String::new()),
         };
         writeln!(
             out,

@@ -271,6 +271,42 @@ impl SoftWorkspace {
         *self = SoftWorkspace::default();
     }
 
+    /// Grains have left: grain `i` is now grain `to[i]`, or gone for `None` (the order kept).
+    /// The kept impulses, warm starts and carried manifolds follow their grains, those of a
+    /// grain gone are dropped; the pairs of fat boxes are searched afresh and the last step's
+    /// forces, which name grains by their old places, are forgotten.
+    pub fn reindex(&mut self, to: &[Option<usize>]) {
+        let mut k = 0;
+        self.inverse.retain(|_| {
+            k += 1;
+            to.get(k - 1).is_none_or(Option::is_some)
+        });
+        // A pair's second index is a grain's, or `STATIC - k` for wall `k`.
+        let pair = |(a, b): PairKey| -> Option<PairKey> {
+            let a = to.get(a).copied().flatten()?;
+            let b = if b > STATIC - MAX_WALLS {
+                b
+            } else {
+                to.get(b).copied().flatten()?
+            };
+            Some((a, b))
+        };
+        fn moved<V>(map: &mut FxHashMap<PairKey, V>, pair: impl Fn(PairKey) -> Option<PairKey>) {
+            *map = map
+                .drain()
+                .filter_map(|(key, v)| pair(key).map(|key| (key, v)))
+                .collect();
+        }
+        moved(&mut self.kept, pair);
+        moved(&mut self.warm, pair);
+        moved(&mut self.carried, pair);
+        self.next_warm.clear();
+        self.next_carried.clear();
+        self.near = Near::default();
+        self.forces.clear();
+        self.woken.clear();
+    }
+
     /// Forget the masses only (a density changed): the next step computes every grain's
     /// again. The kept impulses stay, as a first guess the solver corrects within the step.
     pub fn forget_masses(&mut self) {

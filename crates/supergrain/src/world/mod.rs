@@ -12,7 +12,7 @@ pub use rest::{Rest, RestCounter};
 pub use scene::{Group, PRESETS, Range, Scene, SceneError};
 pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
-use crate::body::{Body, Material, Walls};
+use crate::body::{Body, BodyId, Material, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
@@ -42,6 +42,8 @@ pub struct World {
     pub planes: Vec<HalfPlane>,
     /// The soft step's contacts kept from step to step, and its buffers.
     pub soft: SoftWorkspace,
+    /// The id the next body to join gets ([`BodyId`]: never given twice).
+    next_id: BodyId,
     /// Where each grain was when the last step began (see [`World::velocity`]).
     step_start: Vec<Vec2>,
     broad: AnyBroadPhase,
@@ -54,6 +56,7 @@ pub struct World {
 #[derive(Debug, Default)]
 struct Undo {
     bodies: Vec<Body>,
+    next_id: BodyId,
     step_start: Vec<Vec2>,
     /// What the step's spawn changed in the queue.
     spawned: spawn::Taken,
@@ -74,6 +77,7 @@ impl World {
             wall_material: scene.wall_material,
             planes: scene.planes.clone(),
             soft: SoftWorkspace::default(),
+            next_id: BodyId(0),
             step_start: Vec::new(),
             broad: AnyBroadPhase::new(scene.settings.broad_phase),
             work: Workspace::default(),
@@ -81,7 +85,8 @@ impl World {
         }
     }
 
-    /// A world from its parts (a restart from a dump).
+    /// A world from its parts (a restart from a dump). Bodies keep their ids; those not yet
+    /// named ([`BodyId::NEW`]) are named in order, after the largest id given.
     pub fn from_parts(
         bodies: Vec<Body>,
         walls: Walls,
@@ -90,7 +95,13 @@ impl World {
         top: f64,
         pending: Queue,
     ) -> World {
-        World {
+        let next_id = bodies
+            .iter()
+            .filter(|b| b.id != BodyId::NEW)
+            .map(|b| b.id.0 + 1)
+            .max()
+            .unwrap_or(0);
+        let mut world = World {
             step_start: bodies.iter().map(|b| b.center).collect(),
             bodies,
             walls,
@@ -102,10 +113,78 @@ impl World {
             wall_material: Material::default(),
             planes: Vec::new(),
             soft: SoftWorkspace::default(),
+            next_id: BodyId(next_id),
             broad: AnyBroadPhase::new(settings.broad_phase),
             work: Workspace::default(),
             undo: Undo::default(),
+        };
+        world.name_new();
+        world
+    }
+
+    /// The id the next body to join will get.
+    pub fn next_id(&self) -> BodyId {
+        self.next_id
+    }
+
+    /// Ids from `next` on for the bodies still to join (a dump's `next_id`: the ids of bodies
+    /// that left stay given). Panics below an id already given.
+    pub(crate) fn name_from(&mut self, next: BodyId) {
+        assert!(next >= self.next_id, "an id is never given twice");
+        self.next_id = next;
+    }
+
+    /// Names the bodies not yet named, in their order.
+    fn name_new(&mut self) {
+        for b in self.bodies.iter_mut().filter(|b| b.id == BodyId::NEW) {
+            b.id = self.next_id;
+            self.next_id = BodyId(self.next_id.0 + 1);
         }
+    }
+
+    /// Adds `body` (a grain placed by hand), named with the next id, which it returns.
+    pub fn add(&mut self, body: Body) -> BodyId {
+        let id = self.next_id;
+        self.bodies.push(Body { id, ..body });
+        self.next_id = BodyId(id.0 + 1);
+        id
+    }
+
+    /// Removes the grains for which `leaves` says so, between steps, and returns them in their
+    /// order. The others keep their ids, their order and their contacts: the soft step's kept
+    /// impulses, warm starts and carried manifolds follow them to their new places, so a run
+    /// goes on as if the removed grains had vanished at the step's end (and a dump written now
+    /// resumes bit for bit). Ids are never given again.
+    pub fn remove(&mut self, mut leaves: impl FnMut(&Body) -> bool) -> Vec<Body> {
+        let mut gone = Vec::new();
+        // Each grain's new index, or `None` for one that leaves.
+        let mut to = Vec::with_capacity(self.bodies.len());
+        let mut kept = 0;
+        for b in &self.bodies {
+            if leaves(b) {
+                to.push(None);
+                gone.push(*b);
+            } else {
+                to.push(Some(kept));
+                kept += 1;
+            }
+        }
+        if gone.is_empty() {
+            return gone;
+        }
+        let mut k = 0;
+        self.bodies.retain(|_| {
+            k += 1;
+            to[k - 1].is_some()
+        });
+        let mut k = 0;
+        self.step_start.retain(|_| {
+            k += 1;
+            to.get(k - 1).is_none_or(Option::is_some)
+        });
+        self.soft.reindex(&to);
+        self.work = Workspace::default();
+        gone
     }
 
     /// One step: due grains appear if their place is free, then the solver runs.
@@ -128,6 +207,7 @@ impl World {
         }
         let mut undo = std::mem::take(&mut self.undo);
         undo.bodies.clone_from(&self.bodies);
+        undo.next_id = self.next_id;
         undo.step_start.clone_from(&self.step_start);
         self.undo = undo;
         let done = self.advance(stop);
@@ -135,6 +215,7 @@ impl World {
             let undo = &mut self.undo;
             std::mem::swap(&mut self.bodies, &mut undo.bodies);
             std::mem::swap(&mut self.step_start, &mut undo.step_start);
+            self.next_id = undo.next_id;
             self.pending.undo(&undo.spawned);
         }
         done
@@ -142,7 +223,10 @@ impl World {
 
     /// One step, abandoned (leaving the world half stepped) if `stop` rises.
     fn advance(&mut self, stop: &AtomicBool) -> Result<StepStats, Stopped> {
+        // Grains pushed onto `bodies` by hand since the last step, then those that appear now.
+        self.name_new();
         self.spawn();
+        self.name_new();
         self.step_start.clear();
         self.step_start.extend(self.bodies.iter().map(|b| b.center));
         let stats = match self.settings.model {
