@@ -240,6 +240,7 @@ impl Sim {
             groups: Vec::new(),
             wall_material: world.wall_material,
             planes: world.planes.clone(),
+            grains: Vec::new(),
         };
         let mut sim = Sim::new(
             Source::State {

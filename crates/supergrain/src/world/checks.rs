@@ -152,6 +152,28 @@ pub fn check_time_step(settings: &Settings, height: f64, smallest: f64) -> Resul
     ))
 }
 
+/// Refuses a grain's given `speed` at which it would move more than the time step's share of
+/// its smallest semi-axis `smallest` in one step ([`STEP_FRACTION`], [`SOFT_STEP_FRACTION`]
+/// under the soft model): it would pass through what it meets.
+pub fn check_speed(settings: &Settings, speed: f64, smallest: f64) -> Result<(), String> {
+    let fraction = match settings.model {
+        Model::Paper => STEP_FRACTION,
+        Model::Soft => SOFT_STEP_FRACTION,
+    };
+    let (moved, limit) = (speed * settings.step, fraction * smallest);
+    if moved <= limit {
+        return Ok(());
+    }
+    Err(format!(
+        "its velocity moves it {} in one step of {}, more than {fraction} x its smallest \
+         semi-axis ({}): slower, or a shorter step (at most {})",
+        short(moved),
+        short(settings.step),
+        short(smallest),
+        short(limit / speed)
+    ))
+}
+
 /// The most the quadtree's tolerance `eps` may be, as a fraction of the smallest semi-axis: an
 /// overlap is missed up to four final cells deep (the quadtree's spikes, `contact/spikes.rs`;
 /// half a cell by the certified path), at most [`DEPTH_FRACTION`] of the thinnest grain.

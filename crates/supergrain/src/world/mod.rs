@@ -9,7 +9,7 @@ mod spawn;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use rest::{Rest, RestCounter};
-pub use scene::{Group, PRESETS, Range, Scene, SceneError};
+pub use scene::{Group, PRESETS, Placed, Range, Scene, SceneError};
 pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
 use crate::body::{Body, BodyId, Material, Walls};
@@ -66,7 +66,7 @@ impl World {
     /// The world of a scene at step 0: no grain yet, every grain of the scene still to draw
     /// (from the scene's seed, each when it is due, see [`Queue`]).
     pub fn new(scene: &Scene) -> World {
-        World {
+        let mut world = World {
             bodies: Vec::new(),
             walls: scene.walls,
             settings: scene.settings,
@@ -82,7 +82,20 @@ impl World {
             broad: AnyBroadPhase::new(scene.settings.broad_phase),
             work: Workspace::default(),
             undo: Undo::default(),
+        };
+        // The placed grains, in the file's order: ids 0, 1, ...
+        for g in &scene.grains {
+            let mut body = g.body();
+            if scene.settings.model == Model::Paper {
+                // Verlet's velocity is the step's displacement.
+                let h = scene.settings.step;
+                body.previous_center = body.center - g.velocity * h;
+                body.previous_angle = body.angle - g.angular_velocity * h;
+                (body.velocity, body.angular_velocity) = (Vec2::ZERO, 0.0);
+            }
+            world.add(body);
         }
+        world
     }
 
     /// A world from its parts (a restart from a dump). Bodies keep their ids; those not yet

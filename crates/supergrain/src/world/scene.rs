@@ -9,12 +9,12 @@ use serde::{Deserialize, Serialize};
 
 use super::checks;
 use super::spawn::SpawnRule;
-use crate::body::{Material, Walls};
+use crate::body::{Body, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::geometry::Vec2;
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
-use crate::shape::{HalfPlane, ShapeError, Superellipse};
+use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
 /// A closed range `[lo, hi]` of values drawn uniformly, or one fixed value (`lo == hi`).
@@ -121,6 +121,29 @@ pub struct Scene {
     /// Walls at any angle besides the box's (`[[plane]]`; the soft step's), of the walls'
     /// material.
     pub planes: Vec<HalfPlane>,
+    /// Grains placed by the file (`[[grain]]`), there from step 0, before any of the groups'.
+    pub grains: Vec<Placed>,
+}
+
+/// How deep a placed grain may be in a wall or another placed grain, as a fraction of its
+/// smallest semi-axis (of the thinner of a pair): grains placed touching, as computed by hand,
+/// are not refused for their rounding.
+pub const PLACED_TOLERANCE: f64 = 1e-6;
+
+/// A grain placed by a scene file (`[[grain]]`): its shape, pose and velocity, and the
+/// `[[group]]` whose material and colour it takes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placed {
+    pub shape: Superellipse,
+    pub pose: Pose,
+    /// Units per second; under the paper's model, the first step's displacement over the step.
+    pub velocity: Vec2,
+    /// Radians per second (the soft model's; the paper's projection keeps none).
+    pub angular_velocity: f64,
+    /// Its group, counted from 0 in the scene's order (0 when the table names none).
+    pub group: u32,
+    /// The line of its `[[grain]]` table (0 for a grain made otherwise), for errors.
+    pub line: usize,
 }
 
 /// The paper's four scenes.
@@ -143,6 +166,27 @@ pub enum SceneError {
     /// Settings, box or spawn rule that cannot work together.
     #[error("{0}")]
     Unworkable(String),
+    /// A placed grain (`[[grain]]`, counted from 1) that cannot be where it is.
+    #[error("line {line}: grain {grain}: {message}")]
+    Grain {
+        line: usize,
+        grain: usize,
+        message: String,
+    },
+}
+
+impl Placed {
+    /// The grain as a body (not yet named: the world names it when it joins), with its
+    /// velocity as the soft model keeps it (the world gives the paper's Verlet its previous
+    /// pose instead: [`super::World::new`]).
+    pub fn body(&self) -> Body {
+        Body {
+            group: self.group,
+            velocity: self.velocity,
+            angular_velocity: self.angular_velocity,
+            ..Body::at_rest(self.shape, &self.pose)
+        }
+    }
 }
 
 impl Scene {
@@ -202,6 +246,7 @@ impl Scene {
                 ..Settings::default()
             },
             groups: vec![g],
+            grains: Vec::new(),
             wall_material: Material::default(),
             planes: Vec::new(),
         })
@@ -211,8 +256,14 @@ impl Scene {
     pub fn from_toml(text: &str) -> Result<Scene, SceneError> {
         let file: SceneFile = toml::from_str(text)
             .map_err(|e| SceneError::Toml(e.to_string().trim_end().to_string()))?;
+        // (Counted by line ends before the span: a table's span starts at the head of its
+        // line, where counting the lines before it named the line above.)
         let line_of = |span: std::ops::Range<usize>| {
-            text[..span.start.min(text.len())].lines().count().max(1)
+            text.as_bytes()[..span.start.min(text.len())]
+                .iter()
+                .filter(|&&c| c == b'\n')
+                .count()
+                + 1
         };
         let invalid = |span: std::ops::Range<usize>, message: String| SceneError::Invalid {
             line: line_of(span),
@@ -481,6 +532,91 @@ impl Scene {
                 ),
             ));
         }
+        let mut grains = Vec::new();
+        for (k, spanned) in file.grains.iter().enumerate() {
+            let g = spanned.get_ref();
+            let at = |span: std::ops::Range<usize>, message: String| SceneError::Grain {
+                line: line_of(span),
+                grain: k + 1,
+                message,
+            };
+            let two = |key: &str, v: &toml::Spanned<Vec<f64>>| match v.get_ref()[..] {
+                [x, y] => Ok([x, y]),
+                _ => Err(at(
+                    v.span(),
+                    format!("{key} needs two numbers [x, y], got {}", v.get_ref().len()),
+                )),
+            };
+            let numbers = |v: &toml::Spanned<Vec<Finite>>| {
+                toml::Spanned::new(v.span(), v.get_ref().iter().map(|x| x.0).collect())
+            };
+            let positives = |v: &toml::Spanned<Vec<Positive>>| {
+                toml::Spanned::new(v.span(), v.get_ref().iter().map(|x| x.0).collect())
+            };
+            let semi_axes = match (&g.radius, &g.semi_axes) {
+                (Some(r), None) => [r.0; 2],
+                (None, Some(s)) => two("semi_axes", &positives(s))?,
+                _ => {
+                    return Err(at(
+                        spanned.span(),
+                        "give either `radius` (a circle) or `semi_axes`, not both or neither"
+                            .into(),
+                    ));
+                }
+            };
+            let exponents = match (&g.exponent, &g.exponents) {
+                (Some(e), None) => [e.0; 2],
+                (None, Some(e)) => two("exponents", &positives(e))?,
+                (None, None) => [2.0; 2],
+                _ => {
+                    return Err(at(
+                        spanned.span(),
+                        "give `exponent` (both the same) or `exponents`, not both".into(),
+                    ));
+                }
+            };
+            let shape = Superellipse::new(semi_axes, exponents)
+                .map_err(|e| at(spanned.span(), e.to_string()))?;
+            let center = two("center", &numbers(&g.center))?;
+            let pose = Pose::new(Vec2::from(center), g.angle.map_or(0.0, |a| a.0))
+                .map_err(|e| at(g.center.span(), e.to_string()))?;
+            let velocity = match &g.velocity {
+                None => Vec2::ZERO,
+                Some(v) => Vec2::from(two("velocity", &numbers(v))?),
+            };
+            let group = match &g.group {
+                None => 0,
+                Some(name) => groups
+                    .iter()
+                    .position(|gr| gr.name == *name.get_ref())
+                    .ok_or_else(|| {
+                        at(
+                            name.span(),
+                            format!(
+                                "no [[group]] is named `{}` (the groups: {})",
+                                name.get_ref(),
+                                if groups.is_empty() {
+                                    "none".to_string()
+                                } else {
+                                    groups
+                                        .iter()
+                                        .map(|gr| format!("`{}`", gr.name))
+                                        .collect::<Vec<_>>()
+                                        .join(", ")
+                                }
+                            ),
+                        )
+                    })? as u32,
+            };
+            grains.push(Placed {
+                shape,
+                pose,
+                velocity,
+                angular_velocity: g.angular_velocity.map_or(0.0, |w| w.0),
+                group,
+                line: line_of(spanned.span()),
+            });
+        }
         let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
@@ -497,6 +633,7 @@ impl Scene {
             groups,
             wall_material: b.material_spec().material(),
             planes,
+            grains,
         };
         scene.validate()?;
         Ok(scene)
@@ -559,6 +696,69 @@ impl Scene {
             radii[1] = radii[1].max(largest.bounding_radius());
             area += f64::from(g.count) * least.area();
         }
+        let materials: Vec<Material> = self.groups.iter().map(|g| g.material).collect();
+        let placed: Vec<Body> = self.grains.iter().map(Placed::body).collect();
+        for (k, (g, body)) in self.grains.iter().zip(&placed).enumerate() {
+            let error = |message: String| SceneError::Grain {
+                line: g.line,
+                grain: k + 1,
+                message,
+            };
+            if self.settings.narrow_phase == NarrowPhase::Analytic && !g.shape.is_circle() {
+                return Err(error(
+                    "the analytic narrow phase needs circles only, and this grain is not one"
+                        .into(),
+                ));
+            }
+            checks::check_mass(&material_of(&materials, g.group), &g.shape).map_err(error)?;
+            // Placed grains may touch the walls and each other: each is refused deeper than
+            // `PLACED_TOLERANCE` of its thickness (a grain set on the floor by hand, `y = b`,
+            // reaches 1.8e-16 below it by its rounded box).
+            let thin = g.shape.min_semi_axis();
+            let bb = body.bounding_box();
+            let outside = checks::depth_outside(&self.walls, &bb);
+            if outside > PLACED_TOLERANCE * thin {
+                return Err(error(format!(
+                    "reaches {} beyond the box's walls or floor (its box is x {}..{}, y {}..; the \
+                     walls at {} and {}, the floor at {})",
+                    checks::short(outside),
+                    checks::short(bb.min.x),
+                    checks::short(bb.max.x),
+                    checks::short(bb.min.y),
+                    checks::short(self.walls.left),
+                    checks::short(self.walls.right),
+                    checks::short(self.walls.floor),
+                )));
+            }
+            let narrow = self.settings.narrow();
+            if let Some(p) = self.planes.iter().position(|w| {
+                body.wall_contact(w, &narrow)
+                    .penetration
+                    .is_some_and(|p| p.push.norm() > PLACED_TOLERANCE * thin)
+            }) {
+                return Err(error(format!("lies in plane {}", p + 1)));
+            }
+            if let Some(j) = placed[..k].iter().position(|o| {
+                let limit = PLACED_TOLERANCE * thin.min(o.shape.min_semi_axis());
+                o.bounding_box().intersects(&bb)
+                    && body
+                        .contact(o, &narrow)
+                        .penetration
+                        .is_some_and(|p| checks::overlap_depth(body, o, &p, 0.1 * limit) > limit)
+            }) {
+                return Err(error(format!(
+                    "overlaps grain {} (line {})",
+                    j + 1,
+                    self.grains[j].line
+                )));
+            }
+            checks::check_speed(&self.settings, g.velocity.norm(), g.shape.min_semi_axis())
+                .map_err(error)?;
+            smallest = smallest.min(g.shape.min_semi_axis());
+            radii[0] = radii[0].min(g.shape.bounding_radius());
+            radii[1] = radii[1].max(g.shape.bounding_radius());
+            area += g.shape.area();
+        }
         checks::check_capacity(&self.walls, self.top, self.grain_count(), area)
             .map_err(SceneError::Unworkable)?;
         checks::check_sleep(&self.settings, smallest).map_err(SceneError::Unworkable)?;
@@ -576,9 +776,9 @@ impl Scene {
         Ok(())
     }
 
-    /// The number of grains the scene will hold.
+    /// The number of grains the scene will hold: those placed and those the groups draw.
     pub fn grain_count(&self) -> u64 {
-        self.groups.iter().map(|g| u64::from(g.count)).sum()
+        self.grains.len() as u64 + self.groups.iter().map(|g| u64::from(g.count)).sum::<u64>()
     }
 }
 
@@ -607,6 +807,26 @@ struct SceneFile {
     groups: Vec<GroupSpec>,
     #[serde(rename = "plane", default)]
     planes: Vec<toml::Spanned<PlaneSpec>>,
+    #[serde(rename = "grain", default)]
+    grains: Vec<toml::Spanned<GrainSpec>>,
+}
+
+/// A grain placed by hand: `center` and a shape as a group's (`radius` or `semi_axes`,
+/// `exponent` or `exponents`, single numbers), `angle`, `velocity`, `angular_velocity`, and the
+/// `group` (by name) whose material it takes.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GrainSpec {
+    // Vectors, not arrays: a third number must be an error, not dropped.
+    center: toml::Spanned<Vec<Finite>>,
+    radius: Option<Positive>,
+    semi_axes: Option<toml::Spanned<Vec<Positive>>>,
+    exponent: Option<Positive>,
+    exponents: Option<toml::Spanned<Vec<Positive>>>,
+    angle: Option<Finite>,
+    velocity: Option<toml::Spanned<Vec<Finite>>>,
+    angular_velocity: Option<Finite>,
+    group: Option<toml::Spanned<String>>,
 }
 
 /// A wall at any angle: the line through `point` across `normal`, solid on the side away from
