@@ -470,6 +470,22 @@ pub fn run(args: Args) -> Result<ExitCode> {
             world.deepest_penetration(),
             speed(world.max_speed()),
         );
+        let time = world.step as f64 * world.settings.step;
+        for (k, s) in world.sinks.iter().enumerate() {
+            eprintln!(
+                "sink {}: {} grains have left (mass {}){}, {} per second over the run's {} s",
+                k + 1,
+                s.grains,
+                short(s.mass),
+                if s.recycle {
+                    ", each put back at the top"
+                } else {
+                    ""
+                },
+                short(s.grains as f64 / time.max(f64::MIN_POSITIVE)),
+                short(time),
+            );
+        }
         if let Some(o) = world.overlaps() {
             eprintln!(
                 "overlap of the {} touching contacts: mean {:.2e} ({:.3}% of the thinner grain's \

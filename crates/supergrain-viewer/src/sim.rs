@@ -241,6 +241,7 @@ impl Sim {
             wall_material: world.wall_material,
             planes: world.planes.clone(),
             grains: Vec::new(),
+            sinks: world.sinks.clone(),
         };
         let mut sim = Sim::new(
             Source::State {

@@ -11,13 +11,13 @@ use crate::body::{Body, BodyId, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
-use crate::geometry::Vec2;
+use crate::geometry::{Aabb, Vec2};
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
 use crate::solver::soft::{Kept, MAX_WALLS, STATIC};
 use crate::subdivision::Precision;
-use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Touch, World, checks};
+use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Sink, Touch, World, checks};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -107,6 +107,24 @@ impl MaterialJson {
             .map_err(|e| DumpError::Solver(format!("{what}: {e}")))?;
         Ok(m)
     }
+}
+
+/// A sink and what has left through it (see [`Sink`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SinkJson {
+    /// `[[x0, x1], [y0, y1]]`.
+    pub region: [[f64; 2]; 2],
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub recycle: bool,
+    #[serde(default, skip_serializing_if = "is_zero_u64")]
+    pub grains: u64,
+    #[serde(default, skip_serializing_if = "is_zero_f64")]
+    pub mass: f64,
+}
+
+fn is_zero_u64(n: &u64) -> bool {
+    *n == 0
 }
 
 /// A wall at any angle (see [`HalfPlane`]).
@@ -309,6 +327,9 @@ pub struct Dump {
     /// may take.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub next_id: Option<u64>,
+    /// Where grains leave, and how many have.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sinks: Vec<SinkJson>,
 }
 
 /// Why a dump cannot be resumed.
@@ -439,7 +460,9 @@ impl Dump {
                     }
                 }),
             }),
-            queue: (!world.pending.is_empty()).then(|| queue_json(&world.pending)),
+            // Written empty too where a sink puts grains back: they appear by its rule.
+            queue: (!world.pending.is_empty() || world.sinks.iter().any(|s| s.recycle))
+                .then(|| queue_json(&world.pending)),
             pending: Vec::new(),
             materials: if s.model == Model::Soft {
                 world.materials.iter().map(MaterialJson::from).collect()
@@ -462,6 +485,19 @@ impl Dump {
             },
             next_id: (world.next_id() != implied_next_id(world.bodies.iter().map(|b| b.id)))
                 .then_some(world.next_id().0),
+            sinks: world
+                .sinks
+                .iter()
+                .map(|s| SinkJson {
+                    region: [
+                        [s.region.min.x, s.region.max.x],
+                        [s.region.min.y, s.region.max.y],
+                    ],
+                    recycle: s.recycle,
+                    grains: s.grains,
+                    mass: s.mass,
+                })
+                .collect(),
         }
     }
 
@@ -818,6 +854,30 @@ impl Dump {
         };
         let mut world = World::from_parts(bodies, walls, settings, self.step, top, pending);
         world.name_from(next_id);
+        for (k, s) in self.sinks.iter().enumerate() {
+            let [[x0, x1], [y0, y1]] = s.region;
+            if !([x0, x1, y0, y1].iter().all(|v| v.is_finite()) && x0 < x1 && y0 < y1) {
+                return Err(DumpError::Walls(format!(
+                    "sinks[{k}]: region [[{x0}, {x1}], [{y0}, {y1}]] must be finite, each \
+                     range's start below its end"
+                )));
+            }
+            if !(s.mass.is_finite() && s.mass >= 0.0) {
+                return Err(DumpError::Walls(format!(
+                    "sinks[{k}]: mass must be finite and not negative, got {}",
+                    s.mass
+                )));
+            }
+            world.sinks.push(Sink {
+                region: Aabb {
+                    min: Vec2::new(x0, y0),
+                    max: Vec2::new(x1, y1),
+                },
+                recycle: s.recycle,
+                grains: s.grains,
+                mass: s.mass,
+            });
+        }
         world.materials = materials;
         world.wall_material = wall_material;
         if self.planes.len() + 3 > MAX_WALLS {

@@ -272,9 +272,9 @@ impl SoftWorkspace {
     }
 
     /// Grains have left: grain `i` is now grain `to[i]`, or gone for `None` (the order kept).
-    /// The kept impulses, warm starts and carried manifolds follow their grains, those of a
-    /// grain gone are dropped; the pairs of fat boxes are searched afresh and the last step's
-    /// forces, which name grains by their old places, are forgotten.
+    /// The kept impulses, warm starts, carried manifolds and the last step's forces follow
+    /// their grains, those of a grain gone are dropped; the pairs of fat boxes are searched
+    /// afresh.
     pub fn reindex(&mut self, to: &[Option<usize>]) {
         let mut k = 0;
         self.inverse.retain(|_| {
@@ -303,7 +303,22 @@ impl SoftWorkspace {
         self.next_warm.clear();
         self.next_carried.clear();
         self.near = Near::default();
-        self.forces.clear();
+        let grain = |i: usize| to.get(i).copied().flatten();
+        self.forces.retain_mut(|f| {
+            // `a` is STATIC for a wall's force.
+            let a = if f.a == STATIC {
+                Some(STATIC)
+            } else {
+                grain(f.a)
+            };
+            match (a, grain(f.b)) {
+                (Some(a), Some(b)) => {
+                    (f.a, f.b) = (a, b);
+                    true
+                }
+                _ => false,
+            }
+        });
         self.woken.clear();
     }
 

@@ -4,12 +4,14 @@
 pub mod checks;
 mod rest;
 mod scene;
+mod sink;
 mod spawn;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use rest::{Rest, RestCounter};
 pub use scene::{Group, PRESETS, Placed, Range, Scene, SceneError};
+pub use sink::Sink;
 pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
 use crate::body::{Body, BodyId, Material, Walls};
@@ -44,6 +46,8 @@ pub struct World {
     pub soft: SoftWorkspace,
     /// The id the next body to join gets ([`BodyId`]: never given twice).
     next_id: BodyId,
+    /// Where grains leave, and how many have (`[[sink]]`).
+    pub sinks: Vec<Sink>,
     /// Where each grain was when the last step began (see [`World::velocity`]).
     step_start: Vec<Vec2>,
     broad: AnyBroadPhase,
@@ -78,6 +82,7 @@ impl World {
             planes: scene.planes.clone(),
             soft: SoftWorkspace::default(),
             next_id: BodyId(0),
+            sinks: scene.sinks.clone(),
             step_start: Vec::new(),
             broad: AnyBroadPhase::new(scene.settings.broad_phase),
             work: Workspace::default(),
@@ -127,6 +132,7 @@ impl World {
             planes: Vec::new(),
             soft: SoftWorkspace::default(),
             next_id: BodyId(next_id),
+            sinks: Vec::new(),
             broad: AnyBroadPhase::new(settings.broad_phase),
             work: Workspace::default(),
             undo: Undo::default(),
@@ -264,7 +270,61 @@ impl World {
             )?,
         };
         self.step += 1;
+        self.drain();
         Ok(stats)
+    }
+
+    /// The grains in a sink leave (the first sink in order that holds a grain's centre counts
+    /// it), those of a recycling sink queued to come back; the grains whose boxes reach a
+    /// leaving grain's wake, so that nothing sleeps on a support that is gone.
+    fn drain(&mut self) {
+        if self.sinks.is_empty() {
+            return;
+        }
+        let sink_of =
+            |sinks: &[Sink], b: &Body| sinks.iter().position(|s| s.region.contains(b.center));
+        let mut leaving = Vec::new();
+        for (i, b) in self.bodies.iter().enumerate() {
+            if let Some(k) = sink_of(&self.sinks, b) {
+                leaving.push((i, k));
+            }
+        }
+        if leaving.is_empty() {
+            return;
+        }
+        let reach = self.settings.sleep_radius;
+        for &(i, k) in &leaving {
+            let b = self.bodies[i];
+            let (mass, _) = self.material(i).mass_and_inertia(&b.shape);
+            let sink = &mut self.sinks[k];
+            sink.grains += 1;
+            sink.mass += mass;
+            if sink.recycle {
+                let r = b.shape.bounding_radius();
+                let (lo, hi) = (self.walls.left + r, self.walls.right - r);
+                let x = if lo < hi {
+                    b.center.x.clamp(lo, hi)
+                } else {
+                    0.5 * (self.walls.left + self.walls.right)
+                };
+                self.pending.push_back(Pending {
+                    shape: b.shape,
+                    x,
+                    angle: b.angle,
+                    due: self.step,
+                    group: b.group,
+                });
+            }
+            let bb = b.bounding_box().grown(reach);
+            for o in self.bodies.iter_mut() {
+                if o.bounding_box().intersects(&bb) {
+                    o.calm = 0;
+                }
+            }
+        }
+        let mut gone: Vec<BodyId> = leaving.iter().map(|&(i, _)| self.bodies[i].id).collect();
+        gone.sort_unstable();
+        self.remove(|b| gone.binary_search(&b.id).is_ok());
     }
 
     /// A new grain never appears inside another, by the queue's rule (see [`SpawnRule`]). A grain

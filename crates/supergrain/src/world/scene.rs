@@ -7,12 +7,13 @@ use std::fmt;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
+use super::Sink;
 use super::checks;
-use super::spawn::SpawnRule;
+use super::spawn::{BAND_IN_RADII, SpawnRule};
 use crate::body::{Body, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
-use crate::geometry::Vec2;
+use crate::geometry::{Aabb, Vec2};
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::subdivision::{MAX_DEPTH, Precision};
@@ -123,6 +124,8 @@ pub struct Scene {
     pub planes: Vec<HalfPlane>,
     /// Grains placed by the file (`[[grain]]`), there from step 0, before any of the groups'.
     pub grains: Vec<Placed>,
+    /// Where grains leave (`[[sink]]`).
+    pub sinks: Vec<Sink>,
 }
 
 /// How deep a placed grain may be in a wall or another placed grain, as a fraction of its
@@ -247,6 +250,7 @@ impl Scene {
             },
             groups: vec![g],
             grains: Vec::new(),
+            sinks: Vec::new(),
             wall_material: Material::default(),
             planes: Vec::new(),
         })
@@ -617,6 +621,31 @@ impl Scene {
                 line: line_of(spanned.span()),
             });
         }
+        let mut sinks = Vec::new();
+        for (k, spanned) in file.sinks.iter().enumerate() {
+            let region = &spanned.get_ref().region;
+            let bad = |message: String| {
+                invalid(region.span(), format!("sink {}: region {message}", k + 1))
+            };
+            let [x, y] = match &region.get_ref()[..] {
+                [x, y] => [x, y],
+                _ => return Err(bad("needs [[x0, x1], [y0, y1]]".into())),
+            };
+            let (&[x0, x1], &[y0, y1]) = (&x[..], &y[..]) else {
+                return Err(bad("needs [[x0, x1], [y0, y1]]".into()));
+            };
+            if !(x0.0 < x1.0 && y0.0 < y1.0) {
+                return Err(bad(format!(
+                    "[[{}, {}], [{}, {}]] is empty: each range's start below its end",
+                    x0.0, x1.0, y0.0, y1.0
+                )));
+            }
+            let region = Aabb {
+                min: Vec2::new(x0.0, y0.0),
+                max: Vec2::new(x1.0, y1.0),
+            };
+            sinks.push(Sink::new(region, spanned.get_ref().recycle));
+        }
         let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
@@ -634,6 +663,7 @@ impl Scene {
             wall_material: b.material_spec().material(),
             planes,
             grains,
+            sinks,
         };
         scene.validate()?;
         Ok(scene)
@@ -761,6 +791,21 @@ impl Scene {
         }
         checks::check_capacity(&self.walls, self.top, self.grain_count(), area)
             .map_err(SceneError::Unworkable)?;
+        // Grains appear in a band under `top` (the fair rule's, [`BAND_IN_RADII`] bounding
+        // radii deep): a sink reaching into it would take them as they appear.
+        let band = self.top - BAND_IN_RADII * radii[1].max(0.0);
+        for (k, s) in self.sinks.iter().enumerate() {
+            if s.region.max.y >= band {
+                return Err(SceneError::Unworkable(format!(
+                    "sink {}: its region reaches y = {}, into the band where grains appear \
+                     (from y = {} up to top = {}): keep it below",
+                    k + 1,
+                    checks::short(s.region.max.y),
+                    checks::short(band),
+                    checks::short(self.top)
+                )));
+            }
+        }
         checks::check_sleep(&self.settings, smallest).map_err(SceneError::Unworkable)?;
         checks::check_slop(&self.settings, smallest).map_err(SceneError::Unworkable)?;
         if smallest.is_finite() {
@@ -809,6 +854,17 @@ struct SceneFile {
     planes: Vec<toml::Spanned<PlaneSpec>>,
     #[serde(rename = "grain", default)]
     grains: Vec<toml::Spanned<GrainSpec>>,
+    #[serde(rename = "sink", default)]
+    sinks: Vec<toml::Spanned<SinkSpec>>,
+}
+
+/// A sink: `region = [[x0, x1], [y0, y1]]`, and whether its grains come back (`recycle`).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SinkSpec {
+    region: toml::Spanned<Vec<Vec<Finite>>>,
+    #[serde(default)]
+    recycle: bool,
 }
 
 /// A grain placed by hand: `center` and a shape as a group's (`radius` or `semi_axes`,

@@ -410,6 +410,12 @@ impl Queue {
     /// waiting grains come first, up to the first not yet due; then the grains due are drawn,
     /// and those that did not appear wait. By the fair rule see [`Queue::spawn_fair`]. `taken`
     /// records the changes for [`Queue::undo`].
+    /// Queues `p` after the grains drawn and waiting, before those still to draw: a grain put
+    /// back by a recycling sink ([`super::Sink`]).
+    pub(crate) fn push_back(&mut self, p: Pending) {
+        self.waiting.push_back(p);
+    }
+
     pub(crate) fn spawn(
         &mut self,
         step: u64,
