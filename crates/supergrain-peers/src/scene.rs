@@ -6,7 +6,7 @@
 use std::fmt;
 
 use supergrain::shape::Superellipse;
-use supergrain::world::{RestCounter, Scene as SupergrainScene, World};
+use supergrain::world::{Scene as SupergrainScene, World};
 
 /// A grain's shape in the peers' vocabulary. Lengths in the scene's units (metres for the peers).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -242,7 +242,7 @@ impl Default for Rest {
 }
 
 impl Rest {
-    /// The criterion alone, as supergrain's [`RestCounter`] counts it for every engine.
+    /// The criterion alone, as supergrain's [`supergrain::world::RestCounter`] counts it for every engine.
     pub fn criterion(&self) -> supergrain::world::Rest {
         supergrain::world::Rest {
             speed: self.speed,
