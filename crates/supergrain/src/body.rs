@@ -27,12 +27,32 @@ impl std::fmt::Display for BodyId {
     }
 }
 
+/// How a body moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyKind {
+    /// Moved by gravity and its contacts.
+    #[default]
+    Dynamic,
+    /// Never moves: held where it was placed, as a wall holds (an obstacle, a silo's floor
+    /// either side of its orifice, a hopper's sides). The solvers treat it as a sleeper that
+    /// nothing wakes: no gravity, no mass, in no island.
+    Static,
+}
+
+impl BodyKind {
+    pub fn is_dynamic(&self) -> bool {
+        *self == BodyKind::Dynamic
+    }
+}
+
 /// A grain: its shape, where it is and where it was one step ago (Verlet keeps velocity
 /// implicit).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Body {
     /// Its stable name ([`BodyId`]); [`BodyId::NEW`] until it joins a world.
     pub id: BodyId,
+    pub kind: BodyKind,
     pub shape: Superellipse,
     pub center: Vec2,
     pub angle: f64,
@@ -62,6 +82,7 @@ impl Body {
     pub fn at_rest(shape: Superellipse, pose: &Pose) -> Self {
         Body {
             id: BodyId::NEW,
+            kind: BodyKind::Dynamic,
             shape,
             center: pose.center(),
             angle: pose.angle(),
@@ -77,9 +98,15 @@ impl Body {
         }
     }
 
-    /// Whether the grain sleeps under these settings.
+    /// Whether the solvers hold the grain still: a static body always, a dynamic one when it
+    /// sleeps under these settings.
     pub fn asleep(&self, settings: &Settings) -> bool {
-        settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps
+        self.kind == BodyKind::Static
+            || (settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps)
+    }
+
+    pub fn is_static(&self) -> bool {
+        self.kind == BodyKind::Static
     }
 
     pub fn pose(&self) -> Pose {

@@ -7,7 +7,7 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
-use crate::body::{Body, BodyId, Material, Walls, material_of};
+use crate::body::{Body, BodyId, BodyKind, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
@@ -35,6 +35,9 @@ pub struct ParticleJson {
     /// could leave, and any grain whose id is its index).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub id: Option<u64>,
+    /// `"static"` for a body that never moves; absent: `"dynamic"`.
+    #[serde(default, skip_serializing_if = "BodyKind::is_dynamic")]
+    pub kind: BodyKind,
     pub center: [f64; 2],
     pub angle: f64,
     pub semi_axes: [f64; 2],
@@ -386,6 +389,7 @@ impl Dump {
                     let shape = ShapeJson::from_shape(&b.shape, &b.pose());
                     ParticleJson {
                         id: (b.id != BodyId(i as u64)).then_some(b.id.0),
+                        kind: b.kind,
                         center: shape.center,
                         angle: shape.angle,
                         semi_axes: shape.semi_axes,
@@ -658,6 +662,7 @@ impl Dump {
             let v = Vec2::from(p.velocity);
             let body = Body {
                 id: BodyId(p.id.unwrap_or(index as u64)),
+                kind: p.kind,
                 shape,
                 center: pose.center(),
                 angle: pose.angle(),
@@ -683,6 +688,13 @@ impl Dump {
             };
             if !body.is_finite() || !v.is_finite() {
                 return Err(DumpError::NotFinite(index));
+            }
+            if body.is_static() && (v != Vec2::ZERO || p.angular_velocity != 0.0) {
+                return Err(DumpError::Unworkable(format!(
+                    "particle {index}: a static body never moves, but has velocity ({}, {}) \
+                     and angular velocity {}",
+                    v.x, v.y, p.angular_velocity
+                )));
             }
             let outside = checks::depth_outside(&walls, &body.bounding_box());
             // Under the soft model a grain struck while lying on the floor can be pushed into

@@ -350,11 +350,8 @@ pub fn step_or_stop(
     masses(bodies, &material, work);
     let sleeps = settings.sleep_radius > 0.0;
     work.awake.clear();
-    work.awake.extend(
-        bodies
-            .iter()
-            .map(|b| !(sleeps && b.calm >= settings.sleep_steps)),
-    );
+    work.awake
+        .extend(bodies.iter().map(|b| !b.asleep(settings)));
     work.active.clear();
     work.active.extend(
         work.inverse
@@ -453,6 +450,10 @@ fn masses(bodies: &[Body], material: &impl Fn(&Body) -> Material, work: &mut Sof
         work.inverse.clear();
     }
     for b in &bodies[work.inverse.len()..] {
+        if b.is_static() {
+            work.inverse.push((0.0, 0.0));
+            continue;
+        }
         let (mass, inertia) = material(b).mass_and_inertia(&b.shape);
         let inv = |x: f64| {
             if x > 0.0 && x.is_finite() {
@@ -1043,7 +1044,7 @@ fn update_sleep(
     // it moves).
     for c in constraints {
         for (me, other) in [(c.a, c.b), (c.b, c.a)] {
-            if me == STATIC || awake[me] {
+            if me == STATIC || awake[me] || bodies[me].is_static() {
                 continue;
             }
             if other != STATIC && awake[other] && bodies[other].calm == 0 {
@@ -1095,16 +1096,18 @@ fn update_sleep_islands(
     // The grain pairs in contact at the step before (walls' keys are past every grain), in
     // order (the map's own order depends on its history, which a resumed run does not share),
     // then this step's.
+    // A static body is in no island: it holds its neighbours as a wall does.
+    let grains = |i: usize, j: usize| !bodies[i].is_static() && !bodies[j].is_static();
     let mut pairs: Vec<PairKey> = kept
         .keys()
-        .filter(|&&(i, j)| i < n && j < n)
+        .filter(|&&(i, j)| i < n && j < n && grains(i, j))
         .copied()
         .collect();
     pairs.sort_unstable();
     pairs.extend(
         constraints
             .iter()
-            .filter(|c| c.a != STATIC)
+            .filter(|c| c.a != STATIC && grains(c.a, c.b))
             .map(|c| (c.a, c.b)),
     );
     // A sleeping island touched by an awake grain wakes whole: through the links between

@@ -281,8 +281,12 @@ impl World {
         if self.sinks.is_empty() {
             return;
         }
-        let sink_of =
-            |sinks: &[Sink], b: &Body| sinks.iter().position(|s| s.region.contains(b.center));
+        // (A static body stays: it is part of the container.)
+        let sink_of = |sinks: &[Sink], b: &Body| {
+            (!b.is_static())
+                .then(|| sinks.iter().position(|s| s.region.contains(b.center)))
+                .flatten()
+        };
         let mut leaving = Vec::new();
         for (i, b) in self.bodies.iter().enumerate() {
             if let Some(k) = sink_of(&self.sinks, b) {
@@ -552,7 +556,7 @@ impl World {
     pub fn asleep(&self) -> usize {
         self.bodies
             .iter()
-            .filter(|b| b.asleep(&self.settings))
+            .filter(|b| !b.is_static() && b.asleep(&self.settings))
             .count()
     }
 

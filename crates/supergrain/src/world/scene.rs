@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::Sink;
 use super::checks;
 use super::spawn::{BAND_IN_RADII, SpawnRule};
-use crate::body::{Body, Material, Walls, material_of};
+use crate::body::{Body, BodyKind, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::geometry::{Aabb, Vec2};
@@ -147,6 +147,8 @@ pub struct Placed {
     pub group: u32,
     /// The line of its `[[grain]]` table (0 for a grain made otherwise), for errors.
     pub line: usize,
+    /// Held where it is for good (`fixed = true`): a [`BodyKind::Static`] body.
+    pub fixed: bool,
 }
 
 /// The paper's four scenes.
@@ -185,6 +187,11 @@ impl Placed {
     pub fn body(&self) -> Body {
         Body {
             group: self.group,
+            kind: if self.fixed {
+                BodyKind::Static
+            } else {
+                BodyKind::Dynamic
+            },
             velocity: self.velocity,
             angular_velocity: self.angular_velocity,
             ..Body::at_rest(self.shape, &self.pose)
@@ -588,6 +595,13 @@ impl Scene {
                 None => Vec2::ZERO,
                 Some(v) => Vec2::from(two("velocity", &numbers(v))?),
             };
+            if g.fixed && (velocity != Vec2::ZERO || g.angular_velocity.is_some_and(|w| w.0 != 0.0))
+            {
+                return Err(at(
+                    spanned.span(),
+                    "a fixed grain never moves: give it no velocity or angular_velocity".into(),
+                ));
+            }
             let group = match &g.group {
                 None => 0,
                 Some(name) => groups
@@ -619,6 +633,7 @@ impl Scene {
                 angular_velocity: g.angular_velocity.map_or(0.0, |w| w.0),
                 group,
                 line: line_of(spanned.span()),
+                fixed: g.fixed,
             });
         }
         let mut sinks = Vec::new();
@@ -769,6 +784,11 @@ impl Scene {
                 return Err(error(format!("lies in plane {}", p + 1)));
             }
             if let Some(j) = placed[..k].iter().position(|o| {
+                // Fixed grains may overlap each other (the joint of a hopper's sides): they
+                // never meet.
+                if body.is_static() && o.is_static() {
+                    return false;
+                }
                 let limit = PLACED_TOLERANCE * thin.min(o.shape.min_semi_axis());
                 o.bounding_box().intersects(&bb)
                     && body
@@ -883,6 +903,8 @@ struct GrainSpec {
     velocity: Option<toml::Spanned<Vec<Finite>>>,
     angular_velocity: Option<Finite>,
     group: Option<toml::Spanned<String>>,
+    #[serde(default)]
+    fixed: bool,
 }
 
 /// A wall at any angle: the line through `point` across `normal`, solid on the side away from
