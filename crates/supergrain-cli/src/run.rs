@@ -15,6 +15,7 @@ use supergrain::io::{
     Dump, FORCES_HEADER, GifWriter, trajectory_header, write_forces_frame, write_trajectory_frame,
     write_vtk_frame,
 };
+use supergrain::measure::series::{Series, SeriesKind};
 use supergrain::render::{Style, render_world, world_region, world_svg};
 use supergrain::settings::Model;
 use supergrain::world::checks::short;
@@ -22,6 +23,15 @@ use supergrain::world::{PRESETS, Rest, RestCounter, Scene, World};
 
 use crate::output::{Folder, Output, Plans, Target};
 use crate::picture::{PictureArgs, check_size, save_frame, save_png};
+
+/// A measure from the command line (`--measure`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum MeasureArg {
+    /// Per sink: the grains and mass taken so far, the grains in the box and all that appeared.
+    Discharge,
+    /// The grains' kinetic energy, translational and rotational.
+    Energy,
+}
 
 #[derive(Clone, Copy, ValueEnum)]
 enum NarrowPhaseArg {
@@ -126,6 +136,15 @@ pub struct Args {
     /// also gives the heap's mean stress.
     #[arg(long, value_name = "FILE.csv")]
     forces: Option<PathBuf>,
+    /// Write each measure (the scene's [[measure]] tables, the dump's, and --measure) as a CSV
+    /// into DIR, DIR/KIND.csv, a row every its own `every` steps: discharge (per sink: step,
+    /// time, sink, grains, mass, in_box, appeared) and energy (step, time, grains,
+    /// translational, rotational, total).
+    #[arg(long, value_name = "DIR")]
+    measures: Option<PathBuf>,
+    /// Add a measure, every --every steps (repeatable): discharge (needs a [[sink]]) or energy.
+    #[arg(long, value_name = "KIND")]
+    measure: Vec<MeasureArg>,
     /// Write a VTK point file per frame (every --vtk-every steps) into DIR: each grain's
     /// centre, with its id, group, shape, angle and velocity as point data.
     #[arg(long, value_name = "DIR")]
@@ -225,6 +244,37 @@ pub fn run(args: Args) -> Result<ExitCode> {
         );
     }
     let forces_to = plans.file("--forces", args.forces.as_deref())?;
+    for m in &args.measure {
+        let kind = match m {
+            MeasureArg::Discharge => SeriesKind::Discharge,
+            MeasureArg::Energy => SeriesKind::Energy,
+        };
+        if kind == SeriesKind::Discharge && world.sinks.is_empty() {
+            bail!("--measure discharge needs a [[sink]] in the scene to measure");
+        }
+        if !world.measures.iter().any(|s| s.kind == kind) {
+            world.measures.push(Series {
+                kind,
+                every: args.every,
+            });
+        }
+    }
+    if args.measures.is_none() && !world.measures.is_empty() && !args.quiet {
+        eprintln!(
+            "note: the measures ({}) are given in the summary; --measures DIR writes them as CSV",
+            world
+                .measures
+                .iter()
+                .map(|m| m.kind.name())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    let measures_dir = args
+        .measures
+        .as_deref()
+        .map(|dir| plans.folder("--measures", dir))
+        .transpose()?;
     let gif_to = plans.file("--gif", args.gif.as_deref())?;
     let vtk = args
         .vtk
@@ -262,6 +312,22 @@ pub fn run(args: Args) -> Result<ExitCode> {
     }
     let vtk = vtk.map(Folder::make).transpose()?;
     let frames = frames.map(Folder::make).transpose()?;
+    // Each measure's CSV, its header now and a row at the start, then as it is due.
+    let mut series: Vec<(Series, Output)> = Vec::new();
+    if let Some(dir) = measures_dir.map(Folder::make).transpose()? {
+        for (k, m) in world.measures.iter().enumerate() {
+            let twice = world.measures.iter().filter(|o| o.kind == m.kind).count() > 1;
+            let name = if twice {
+                format!("{}-{}.csv", m.kind.name(), k + 1)
+            } else {
+                format!("{}.csv", m.kind.name())
+            };
+            let mut out = Target::resolve(Some(&dir.join(name)))?.open()?;
+            writeln!(out, "{}", m.header())?;
+            m.write_rows(&world, &mut out)?;
+            series.push((*m, out));
+        }
+    }
     let mut gif_out = gif_to.as_ref().map(Target::open).transpose()?;
     let mut gif = match gif_out.as_mut() {
         Some(out) => {
@@ -383,6 +449,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
         }
         contacts += stats.contacts as u64;
         frame(&world, &mut trajectory, &mut failures, &|n| k % n == 0);
+        series.retain_mut(|(m, out)| {
+            !m.due(world.step)
+                || failures.keep(
+                    m.write_rows(&world, out)
+                        .with_context(|| format!("--measures at step {}", world.step)),
+                )
+        });
         if let (Some(every), Some(target)) = (args.checkpoint, dump.as_ref())
             && k % every == 0
             && k < steps
@@ -436,6 +509,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(f) = forces {
         failures.keep(f.finish());
     }
+    for (m, mut out) in series {
+        // The last state, where its row was not just written.
+        if !m.due(world.step) {
+            failures.keep(m.write_rows(&world, &mut out).map_err(Into::into));
+        }
+        failures.keep(out.finish());
+    }
     // A GIF that failed during the run is not renamed into place (dropped, its temporary goes).
     let gif_whole = gif.is_some();
     drop(gif);
@@ -470,6 +550,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
             world.deepest_penetration(),
             speed(world.max_speed()),
         );
+        for m in &world.measures {
+            eprintln!("{}", m.summary(&world));
+        }
         let time = world.step as f64 * world.settings.step;
         for (k, s) in world.sinks.iter().enumerate() {
             eprintln!(

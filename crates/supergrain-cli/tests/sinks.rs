@@ -1,4 +1,4 @@
-//! Sinks through the binary (`[[sink]]`, issue 41): the summary says how many grains left
+//! Sinks and measures through the binary (`[[sink]]`, `[[measure]]`, issue 41): the summary says how many grains left
 //! through each and at what rate, and the dump keeps the count for a resumed run to go on.
 
 mod common;
@@ -63,4 +63,101 @@ fn the_summary_says_how_many_grains_left_and_a_resumed_run_counts_on() {
     assert!(then > 0 && then < 30, "{first}");
     let rest = ok(&sg(&["run", "--resume", p(&half), "--steps", "300"]));
     assert_eq!(left_through(&rest), 30, "{rest}");
+}
+
+fn rows(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
+/// `[[measure]] kind = "discharge"` writes, every `every` steps, what the sink has taken: at
+/// every row the grains that appeared are those in the box and those taken, the count never
+/// falls, and it ends where the summary says.
+#[test]
+fn the_discharge_csv_conserves_the_grains_at_every_row() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(
+        dir.path(),
+        "drained.toml",
+        &format!("{DRAINED}\n[[measure]]\nkind = \"discharge\"\nevery = 7\n"),
+    );
+    let out = dir.path().join("measures");
+    let summary = ok(&sg(&["run", p(&scene), "--measures", p(&out)]));
+    let (header, rows) = rows(&out.join("discharge.csv"));
+    assert_eq!(
+        header,
+        [
+            "step", "time", "sink", "grains", "mass", "in_box", "appeared"
+        ]
+    );
+    // A row at the start, every 7 steps, and at the end (400 is not a multiple of 7).
+    assert_eq!(rows.len(), 1 + 400 / 7 + 1);
+    let mut last = 0.0;
+    for r in &rows {
+        assert_eq!(r[6], r[5] + r[3], "appeared = in the box + taken: {r:?}");
+        assert!(r[3] >= last, "the count fell: {r:?}");
+        last = r[3];
+    }
+    assert_eq!(rows.last().unwrap()[0], 400.0);
+    assert_eq!(last as u64, left_through(&summary));
+}
+
+/// `--measure energy`: a disk of radius 0.2 (density 1) let go from rest has `m (g t)^2 / 2`,
+/// and the energy of its fall, `m g (y0 - y)`, read against the trajectory's heights, to within
+/// the substeps' error.
+#[test]
+fn the_energy_csv_of_a_falling_disk_is_its_fall() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write_scene(
+        dir.path(),
+        "fall.toml",
+        "steps = 50\n[box]\nleft = -1.0\nright = 1.0\nfloor = 0.0\ntop = 4.0\n\
+         [solver]\nmodel = \"soft\"\n[[grain]]\ncenter = [0.0, 3.0]\nradius = 0.2\n",
+    );
+    let (out, csv) = (dir.path().join("m"), dir.path().join("t.csv"));
+    ok(&sg(&[
+        "run",
+        p(&scene),
+        "--measure",
+        "energy",
+        "--every",
+        "5",
+        "--measures",
+        p(&out),
+        "--trajectory",
+        p(&csv),
+        "-q",
+    ]));
+    let (_, energy) = rows(&out.join("energy.csv"));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let heights: Vec<f64> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(4).unwrap().parse().unwrap())
+        .collect();
+    let m = std::f64::consts::PI * 0.04;
+    assert_eq!(energy.len(), heights.len());
+    for (e, y) in energy.iter().zip(&heights).skip(1) {
+        // The soft step gives the velocity of a free fall exactly, g t.
+        let t = e[1];
+        let closed = 0.5 * m * (9.8 * t).powi(2);
+        assert!(
+            (e[3] - closed).abs() <= 1e-9 * closed,
+            "t = {t}: kinetic {} against m (g t)^2 / 2 = {closed}",
+            e[3]
+        );
+        // And the fall's energy to within the substeps' error, h_s / t (h_s = 0.0025).
+        let fall = m * 9.8 * (3.0 - y);
+        assert!(
+            (e[3] - fall).abs() <= (0.0025 / t + 1e-3) * fall,
+            "t = {t}: kinetic {} against the fall's {fall}",
+            e[3]
+        );
+        assert_eq!(e[4], 0.0, "no rotation");
+    }
 }

@@ -242,6 +242,7 @@ impl Sim {
             planes: world.planes.clone(),
             grains: Vec::new(),
             sinks: world.sinks.clone(),
+            measures: world.measures.clone(),
         };
         let mut sim = Sim::new(
             Source::State {

@@ -157,4 +157,21 @@ fn a_sink_in_the_band_where_grains_appear_or_empty_is_refused() {
         "{e}"
     );
     assert!(scene("region = [[-2.0, 2.0], [-1.0, 0.5]]").is_ok());
+    let e = scene("region = [[-2.0, 2.0], [-1.0, 0.5]]\n[[measure]]\nkind = \"energy\"\nevery = 0")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("line 13: measure 1: every must be at least 1"),
+        "{e}"
+    );
+    let e = Scene::from_toml(
+        "[box]\nleft = -2.0\nright = 2.0\nfloor = 0.0\ntop = 5.0\n\
+         [[group]]\ncount = 4\nradius = 0.2\n[[measure]]\nkind = \"discharge\"\n",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("line 9: measure 1: kind = \"discharge\" needs a [[sink]]"),
+        "{e}"
+    );
 }

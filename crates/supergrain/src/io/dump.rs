@@ -12,6 +12,7 @@ use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
 use crate::geometry::{Aabb, Vec2};
+use crate::measure::series::Series;
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
@@ -333,6 +334,9 @@ pub struct Dump {
     /// Where grains leave, and how many have.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sinks: Vec<SinkJson>,
+    /// Measures taken as the run goes: `{"kind", "every"}`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub measures: Vec<Series>,
 }
 
 /// Why a dump cannot be resumed.
@@ -502,6 +506,7 @@ impl Dump {
                     mass: s.mass,
                 })
                 .collect(),
+            measures: world.measures.clone(),
         }
     }
 
@@ -913,6 +918,14 @@ impl Dump {
             }
             world.planes.push(plane);
         }
+        for (k, m) in self.measures.iter().enumerate() {
+            if m.every == 0 {
+                return Err(DumpError::Unworkable(format!(
+                    "measures[{k}]: every must be at least 1"
+                )));
+            }
+        }
+        world.measures.clone_from(&self.measures);
         let (most, most_rolling) = impulse_limits(&world, &velocities);
         let mut seen = std::collections::HashMap::new();
         for (index, c) in self.contacts.iter().enumerate() {

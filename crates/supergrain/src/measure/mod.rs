@@ -7,6 +7,7 @@
 
 pub mod packing;
 pub mod repose;
+pub mod series;
 
 use crate::geometry::Vec2;
 

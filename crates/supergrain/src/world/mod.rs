@@ -18,6 +18,7 @@ use crate::body::{Body, BodyId, Material, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
+use crate::measure::series::Series;
 use crate::settings::{Model, Settings};
 use crate::shape::{HalfPlane, Pose};
 use crate::solver::soft::{self, SoftWorkspace};
@@ -48,6 +49,8 @@ pub struct World {
     next_id: BodyId,
     /// Where grains leave, and how many have (`[[sink]]`).
     pub sinks: Vec<Sink>,
+    /// Measures taken as the run goes (`[[measure]]`), kept here so that dumps carry them.
+    pub measures: Vec<Series>,
     /// Where each grain was when the last step began (see [`World::velocity`]).
     step_start: Vec<Vec2>,
     broad: AnyBroadPhase,
@@ -83,6 +86,7 @@ impl World {
             soft: SoftWorkspace::default(),
             next_id: BodyId(0),
             sinks: scene.sinks.clone(),
+            measures: scene.measures.clone(),
             step_start: Vec::new(),
             broad: AnyBroadPhase::new(scene.settings.broad_phase),
             work: Workspace::default(),
@@ -133,6 +137,7 @@ impl World {
             soft: SoftWorkspace::default(),
             next_id: BodyId(next_id),
             sinks: Vec::new(),
+            measures: Vec::new(),
             broad: AnyBroadPhase::new(settings.broad_phase),
             work: Workspace::default(),
             undo: Undo::default(),

@@ -14,6 +14,7 @@ use crate::body::{Body, BodyKind, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::geometry::{Aabb, Vec2};
+use crate::measure::series::{Series, SeriesKind};
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
 use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
 use crate::subdivision::{MAX_DEPTH, Precision};
@@ -126,6 +127,8 @@ pub struct Scene {
     pub grains: Vec<Placed>,
     /// Where grains leave (`[[sink]]`).
     pub sinks: Vec<Sink>,
+    /// Measures taken as the run goes (`[[measure]]`).
+    pub measures: Vec<Series>,
 }
 
 /// How deep a placed grain may be in a wall or another placed grain, as a fraction of its
@@ -258,6 +261,7 @@ impl Scene {
             groups: vec![g],
             grains: Vec::new(),
             sinks: Vec::new(),
+            measures: Vec::new(),
             wall_material: Material::default(),
             planes: Vec::new(),
         })
@@ -661,6 +665,33 @@ impl Scene {
             };
             sinks.push(Sink::new(region, spanned.get_ref().recycle));
         }
+        let mut measures = Vec::new();
+        for (k, spanned) in file.measures.iter().enumerate() {
+            let m = spanned.get_ref();
+            let every = match &m.every {
+                None => 10,
+                Some(e) if *e.get_ref() == 0 => {
+                    return Err(invalid(
+                        e.span(),
+                        format!("measure {}: every must be at least 1", k + 1),
+                    ));
+                }
+                Some(e) => *e.get_ref(),
+            };
+            if m.kind == SeriesKind::Discharge && sinks.is_empty() {
+                return Err(invalid(
+                    spanned.span(),
+                    format!(
+                        "measure {}: kind = \"discharge\" needs a [[sink]] to measure",
+                        k + 1
+                    ),
+                ));
+            }
+            measures.push(Series {
+                kind: m.kind,
+                every,
+            });
+        }
         let scene = Scene {
             seed: file.seed.unwrap_or(1),
             steps: file.steps.unwrap_or(3000),
@@ -679,6 +710,7 @@ impl Scene {
             planes,
             grains,
             sinks,
+            measures,
         };
         scene.validate()?;
         Ok(scene)
@@ -876,6 +908,16 @@ struct SceneFile {
     grains: Vec<toml::Spanned<GrainSpec>>,
     #[serde(rename = "sink", default)]
     sinks: Vec<toml::Spanned<SinkSpec>>,
+    #[serde(rename = "measure", default)]
+    measures: Vec<toml::Spanned<MeasureSpec>>,
+}
+
+/// A measure: `kind` (`"discharge"` or `"energy"`) and `every` (steps between rows, 10).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeasureSpec {
+    kind: SeriesKind,
+    every: Option<toml::Spanned<u64>>,
 }
 
 /// A sink: `region = [[x0, x1], [y0, y1]]`, and whether its grains come back (`recycle`).
