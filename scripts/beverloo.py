@@ -4,11 +4,12 @@
 For each orifice width D (in grain diameters d), writes a scene: a silo 8 wide whose floor is two
 fixed blocky planks (exponent 50, 0.4 thick) either side of the orifice, filled with 3,800 disks
 of diameter 0.18-0.22 (d = 0.2) placed on a loose lattice, and a sink under the orifice. Runs it
-with `supergrain run` in chunks of `--chunk` steps (a dump resumed each time), reads from each
-dump how many grains the sink has taken and how many remain above the planks, and takes the rate
-as a least-squares line through the counts while more than `--full` grains remain above the floor
-(a fill at least as high as the silo is wide, where the rate should not depend on it) and after
-the first chunk (the lattice settling). Then fits C, k and n together (k on a fine grid, C and n by
+with `supergrain run` with the discharge measured every `--chunk` steps (`run --measure discharge
+--measures DIR`: the grains the sink has taken and those still in the box, which the script
+checks add up to all that appeared), and takes the rate as a least-squares line through the
+counts while more than `--full` grains remain in the box (a fill at least as high as the silo is
+wide, where the rate should not depend on it) and after the first row past the start (the
+lattice settling). Then fits C, k and n together (k on a fine grid, C and n by
 a log-log line at each k) and prints the table and the fit.
 
 Usage: scripts/beverloo.py [--bin PATH] [--widths 5,6,8,10,12,15] [--out DIR]
@@ -79,30 +80,23 @@ region = [[-4.0, 4.0], [0.0, 1.0]]
     return text
 
 
-def counts(dump_path: str):
-    d = json.load(open(dump_path))
-    grains = [p for p in d["particles"] if p.get("kind") != "static"]
-    above = sum(1 for p in grains if p["center"][1] > 2.2)
-    sinks = d.get("sinks", [{}])
-    return d["step"], sinks[0].get("grains", 0), above
-
-
 def run(binary: str, out: str, nd: float, chunk: int, full: int, chunks: int):
+    """Runs the silo of `nd` diameters with the discharge measured every `chunk` steps; returns
+    its rows as (step, grains taken, grains in the box)."""
     path = os.path.join(out, f"silo{nd:g}.toml")
     with open(path, "w") as f:
         f.write(scene(nd))
-    dump = os.path.join(out, f"silo{nd:g}.json")
+    measures = os.path.join(out, f"silo{nd:g}")
+    cmd = [binary, "--threads", "1", "run", path, "--steps", str(chunk * chunks),
+           "--measure", "discharge", "--every", str(chunk), "--measures", measures, "-q"]
+    subprocess.run(cmd, check=True)
     rows = []
-    first = [binary, "--threads", "1", "run", path, "--steps", str(chunk), "--dump", dump, "-q"]
-    subprocess.run(first, check=True)
-    rows.append(counts(dump))
-    for _ in range(chunks):
-        if rows[-1][2] <= full:
-            break
-        more = [binary, "--threads", "1", "run", "--resume", dump, "--steps", str(chunk),
-                "--dump", dump, "-q"]
-        subprocess.run(more, check=True)
-        rows.append(counts(dump))
+    with open(os.path.join(measures, "discharge.csv")) as f:
+        next(f)
+        for line_ in f:
+            step, _, _, grains, _, in_box, appeared = line_.strip().split(",")
+            assert int(appeared) == int(in_box) + int(grains), line_
+            rows.append((int(step), int(grains), int(in_box)))
     return nd, rows
 
 
@@ -131,9 +125,9 @@ def main():
     with ThreadPoolExecutor(a.jobs) as pool:
         results = list(pool.map(lambda nd: run(a.bin, a.out, nd, a.chunk, a.full, a.chunks), widths))
     table = []
-    print("D/d   rate (grains/s)   points   counts (step, taken, above the floor)")
+    print("D/d   rate (grains/s)   points   counts (step, taken, in the box)")
     for nd, rows in results:
-        window = [(s, t) for s, t, above in rows[1:] if above > a.full]
+        window = [(s, t) for s, t, in_box in rows[2:] if in_box > a.full]
         if len(window) < 2:
             print(f"{nd:4g}   jammed or too short: {rows}")
             continue
