@@ -124,3 +124,34 @@ fn a_fixed_grain_with_a_velocity_is_refused() {
     .to_string();
     assert!(e.contains("grain 1: a fixed grain never moves"), "{e}");
 }
+
+/// Pictures draw the fixed bodies in the walls' colour and each sink's outline in its own.
+#[test]
+fn pictures_draw_fixed_bodies_as_walls_and_the_sinks() {
+    use supergrain::render::{SINK_COLOUR, Style, WALL_COLOUR, render_world};
+    let count = |w: &World, colour: [u8; 4]| {
+        let style = Style {
+            width: 200,
+            ..Style::default()
+        };
+        render_world(w, &style)
+            .pixels()
+            .iter()
+            .filter(|p| [p.red(), p.green(), p.blue()] == colour[..3])
+            .count()
+    };
+    let w = silo(0.8, "");
+    let mut plain = silo(0.8, "");
+    for b in &mut plain.bodies {
+        b.kind = BodyKind::Dynamic;
+    }
+    plain.sinks.clear();
+    // Two planks 1.6 x 0.2 in a picture 200 px across 8.4 units: about 24 px each at least.
+    let (walls, walls_plain) = (count(&w, WALL_COLOUR), count(&plain, WALL_COLOUR));
+    assert!(
+        walls >= walls_plain + 2 * 24 * 4,
+        "{walls} against {walls_plain}"
+    );
+    assert!(count(&w, SINK_COLOUR) > 100, "the sink's outline");
+    assert_eq!(count(&plain, SINK_COLOUR), 0);
+}

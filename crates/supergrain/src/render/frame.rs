@@ -115,6 +115,12 @@ pub fn world_region(world: &World) -> Aabb {
     )
 }
 
+/// The walls', the planes' and the fixed bodies' colour.
+pub const WALL_COLOUR: [u8; 4] = [0x37, 0x47, 0x4f, 255];
+
+/// The outline of a sink's region.
+pub const SINK_COLOUR: [u8; 4] = [0x00, 0x96, 0x88, 255];
+
 /// Draws a world.
 pub fn render_world(world: &World, style: &Style) -> Pixmap {
     let view = View::fit(
@@ -126,6 +132,8 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
     pixmap.fill(Color::from_rgba8(r, g, b, a));
     for (i, body) in world.bodies.iter().enumerate() {
         let colour = match style.colouring {
+            // A fixed body is part of the container: in the walls' colour.
+            _ if body.is_static() && style.walls => WALL_COLOUR,
             Colouring::Exponent => exponent_colour(&body.shape),
             Colouring::Palette => PALETTE[i % PALETTE.len()],
             Colouring::Group => PALETTE[body.group as usize % PALETTE.len()],
@@ -146,9 +154,13 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
                 Vec2::new(w.right, w.floor),
                 Vec2::new(w.right, top),
             ],
-            [0x37, 0x47, 0x4f, 255],
+            WALL_COLOUR,
             3.0,
         );
+        // Sinks: their rectangles, in a colour of their own.
+        for s in &world.sinks {
+            pen.stroke_box(&mut pixmap, &s.region, SINK_COLOUR, 1.5);
+        }
         // Planes: the part of each line across the picture.
         let region = view.region;
         let reach = region.diagonal();
@@ -156,12 +168,7 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
             let n = plane.normal();
             let foot = plane.project(region.center());
             let along = Vec2::new(-n.y, n.x) * reach;
-            pen.polyline(
-                &mut pixmap,
-                &[foot - along, foot + along],
-                [0x37, 0x47, 0x4f, 255],
-                3.0,
-            );
+            pen.polyline(&mut pixmap, &[foot - along, foot + along], WALL_COLOUR, 3.0);
         }
     }
     if style.boxes {

@@ -11,6 +11,8 @@ mod world_svg;
 
 pub use contact_svg::{answer_svg, contact_svg};
 pub use diagram::{Show, cell_style, collision_png, wall_png};
-pub use frame::{Colouring, Style, exponent_colour, render_world, world_region};
+pub use frame::{
+    Colouring, SINK_COLOUR, Style, WALL_COLOUR, exponent_colour, render_world, world_region,
+};
 pub(crate) use pen::Pen;
 pub use world_svg::world_svg;
