@@ -119,8 +119,16 @@ def main():
     ap.add_argument("--full", type=int, default=1700)
     ap.add_argument("--chunks", type=int, default=40)
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--scene-only", type=float, metavar="D",
+                    help="write the scene of an orifice D grain diameters wide into --out, and stop")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
+    if a.scene_only is not None:
+        path = os.path.join(a.out, f"silo{a.scene_only:g}.toml")
+        with open(path, "w") as f:
+            f.write(scene(a.scene_only))
+        print(path)
+        return 0
     widths = [float(w) for w in a.widths.split(",")]
     with ThreadPoolExecutor(a.jobs) as pool:
         results = list(pool.map(lambda nd: run(a.bin, a.out, nd, a.chunk, a.full, a.chunks), widths))

@@ -5,6 +5,7 @@
 #   docs/circles.png, docs/ellipses.png, docs/squircles.png, docs/mixed-contacts.png
 #   docs/mixed.gif          the presets, as docs/reference.md says they are drawn
 #   docs/pour-1000.png      the 1,000-grain pour at rest
+#   docs/silo.png           the silo of docs/silo.md, 6 s into its discharge (needs python3)
 # Usage: scripts/redraw-docs.sh   (from anywhere; builds the release binary first; about half a
 # minute on two cores once built). CARGO_TARGET_DIR is honoured.
 set -eu
@@ -29,4 +30,9 @@ done
 "$sg" run examples/scenes/pour-1000.toml --until-rest --steps 20000 --dump "$tmp/pour.json" --quiet
 "$sg" render "$tmp/pour.json" -o docs/pour-1000.png --colour group --width 900
 
-echo "redrawn: docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"
+# The silo of docs/silo.md (scripts/beverloo.py's, an orifice 8 grains wide), 6 s in.
+python3 scripts/beverloo.py --scene-only 8 --out "$tmp" > /dev/null
+"$sg" run "$tmp/silo8.toml" --steps 1200 --dump "$tmp/silo.json" --quiet
+"$sg" render "$tmp/silo.json" -o docs/silo.png --width 240 --colour palette
+
+echo "redrawn: docs/silo.png docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"
