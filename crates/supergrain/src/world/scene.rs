@@ -789,8 +789,8 @@ impl Scene {
             }
             checks::check_mass(&material_of(&materials, g.group), &g.shape).map_err(error)?;
             // Placed grains may touch the walls and each other: each is refused deeper than
-            // `PLACED_TOLERANCE` of its thickness (a grain set on the floor by hand, `y = b`,
-            // reaches 1.8e-16 below it by its rounded box).
+            // `PLACED_TOLERANCE` of its smallest semi-axis (a grain set on the floor by hand,
+            // `y = b`, reaches 1.8e-16 below it by its rounded box).
             let thin = g.shape.min_semi_axis();
             let bb = body.bounding_box();
             let outside = checks::depth_outside(&self.walls, &bb);
