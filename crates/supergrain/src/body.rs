@@ -19,6 +19,16 @@ impl BodyId {
     /// A body not yet in a world: the world names it when it joins ([`crate::world::World::add`],
     /// or the next step for one pushed onto `bodies`).
     pub const NEW: BodyId = BodyId(u64::MAX);
+
+    /// The id after all of `ids` (those not [`BodyId::NEW`]): one past the largest, 0 for none.
+    pub fn after(ids: impl Iterator<Item = BodyId>) -> BodyId {
+        BodyId(
+            ids.filter(|&id| id != BodyId::NEW)
+                .map(|id| id.0 + 1)
+                .max()
+                .unwrap_or(0),
+        )
+    }
 }
 
 impl std::fmt::Display for BodyId {

@@ -491,7 +491,7 @@ impl Dump {
             } else {
                 Vec::new()
             },
-            next_id: (world.next_id() != implied_next_id(world.bodies.iter().map(|b| b.id)))
+            next_id: (world.next_id() != BodyId::after(world.bodies.iter().map(|b| b.id)))
                 .then_some(world.next_id().0),
             sinks: world
                 .sinks
@@ -857,7 +857,7 @@ impl Dump {
                 )));
             }
         }
-        let implied = implied_next_id(bodies.iter().map(|b| b.id));
+        let implied = BodyId::after(bodies.iter().map(|b| b.id));
         let next_id = match self.next_id {
             None => implied,
             Some(n) if n >= implied.0 && n < BodyId::NEW.0 => BodyId(n),
@@ -1085,12 +1085,6 @@ impl Dump {
         }
         Ok(world)
     }
-}
-
-/// The next id a world of bodies named `ids` gives when nothing says otherwise: one past the
-/// largest (0 for none).
-fn implied_next_id(ids: impl Iterator<Item = BodyId>) -> BodyId {
-    BodyId(ids.map(|id| id.0 + 1).max().unwrap_or(0))
 }
 
 /// The soft step's kept contacts, in the order of their pairs (a dump is the same for the same

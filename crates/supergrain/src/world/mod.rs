@@ -117,12 +117,7 @@ impl World {
         top: f64,
         pending: Queue,
     ) -> World {
-        let next_id = bodies
-            .iter()
-            .filter(|b| b.id != BodyId::NEW)
-            .map(|b| b.id.0 + 1)
-            .max()
-            .unwrap_or(0);
+        let next_id = BodyId::after(bodies.iter().map(|b| b.id));
         let mut world = World {
             step_start: bodies.iter().map(|b| b.center).collect(),
             bodies,
@@ -135,7 +130,7 @@ impl World {
             wall_material: Material::default(),
             planes: Vec::new(),
             soft: SoftWorkspace::default(),
-            next_id: BodyId(next_id),
+            next_id,
             sinks: Vec::new(),
             measures: Vec::new(),
             broad: AnyBroadPhase::new(settings.broad_phase),
@@ -179,33 +174,39 @@ impl World {
     /// impulses, warm starts and carried manifolds follow them to their new places, so a run
     /// goes on as if the removed grains had vanished at the step's end (and a dump written now
     /// resumes bit for bit). Ids are never given again.
-    pub fn remove(&mut self, mut leaves: impl FnMut(&Body) -> bool) -> Vec<Body> {
-        let mut gone = Vec::new();
-        // Each grain's new index, or `None` for one that leaves.
-        let mut to = Vec::with_capacity(self.bodies.len());
-        let mut kept = 0;
-        for b in &self.bodies {
-            if leaves(b) {
-                to.push(None);
-                gone.push(*b);
-            } else {
-                to.push(Some(kept));
-                kept += 1;
-            }
-        }
+    pub fn remove(&mut self, leaves: impl FnMut(&Body) -> bool) -> Vec<Body> {
+        let marked: Vec<bool> = self.bodies.iter().map(leaves).collect();
+        self.remove_marked(&marked)
+    }
+
+    /// [`World::remove`] of the grains `marked` by index.
+    fn remove_marked(&mut self, marked: &[bool]) -> Vec<Body> {
+        let gone: Vec<Body> = self
+            .bodies
+            .iter()
+            .zip(marked)
+            .filter(|(_, m)| **m)
+            .map(|(b, _)| *b)
+            .collect();
         if gone.is_empty() {
             return gone;
         }
-        let mut k = 0;
-        self.bodies.retain(|_| {
-            k += 1;
-            to[k - 1].is_some()
-        });
-        let mut k = 0;
-        self.step_start.retain(|_| {
-            k += 1;
-            to.get(k - 1).is_none_or(Option::is_some)
-        });
+        // Each grain's new index, or `None` for one that leaves.
+        let mut kept = 0;
+        let to: Vec<Option<usize>> = marked
+            .iter()
+            .map(|&m| {
+                (!m).then(|| {
+                    kept += 1;
+                    kept - 1
+                })
+            })
+            .collect();
+        let mut stays = marked.iter().map(|&m| !m);
+        self.bodies.retain(|_| stays.next().unwrap_or(true));
+        // (`step_start` is as long as `bodies` was at the step's start: no longer.)
+        let mut stays = marked.iter().map(|&m| !m);
+        self.step_start.retain(|_| stays.next().unwrap_or(true));
         self.soft.reindex(&to);
         self.work = Workspace::default();
         gone
@@ -286,23 +287,23 @@ impl World {
         if self.sinks.is_empty() {
             return;
         }
-        // (A static body stays: it is part of the container.)
-        let sink_of = |sinks: &[Sink], b: &Body| {
-            (!b.is_static())
-                .then(|| sinks.iter().position(|s| s.region.contains(b.center)))
-                .flatten()
-        };
-        let mut leaving = Vec::new();
-        for (i, b) in self.bodies.iter().enumerate() {
-            if let Some(k) = sink_of(&self.sinks, b) {
-                leaving.push((i, k));
-            }
-        }
-        if leaving.is_empty() {
+        // Each grain's sink (a static body stays: it is part of the container).
+        let sink_of: Vec<Option<usize>> = self
+            .bodies
+            .iter()
+            .map(|b| {
+                (!b.is_static())
+                    .then(|| self.sinks.iter().position(|s| s.region.contains(b.center)))
+                    .flatten()
+            })
+            .collect();
+        if sink_of.iter().all(Option::is_none) {
             return;
         }
         let reach = self.settings.sleep_radius;
-        for &(i, k) in &leaving {
+        let mut wake = Vec::new();
+        for (i, k) in sink_of.iter().enumerate() {
+            let Some(k) = *k else { continue };
             let b = self.bodies[i];
             let (mass, _) = self.material(i).mass_and_inertia(&b.shape);
             let sink = &mut self.sinks[k];
@@ -324,16 +325,16 @@ impl World {
                     group: b.group,
                 });
             }
-            let bb = b.bounding_box().grown(reach);
-            for o in self.bodies.iter_mut() {
-                if o.bounding_box().intersects(&bb) {
-                    o.calm = 0;
-                }
+            wake.push(b.bounding_box().grown(reach));
+        }
+        for o in self.bodies.iter_mut() {
+            let bb = o.bounding_box();
+            if wake.iter().any(|w| w.intersects(&bb)) {
+                o.calm = 0;
             }
         }
-        let mut gone: Vec<BodyId> = leaving.iter().map(|&(i, _)| self.bodies[i].id).collect();
-        gone.sort_unstable();
-        self.remove(|b| gone.binary_search(&b.id).is_ok());
+        let marked: Vec<bool> = sink_of.iter().map(Option::is_some).collect();
+        self.remove_marked(&marked);
     }
 
     /// A new grain never appears inside another, by the queue's rule (see [`SpawnRule`]). A grain

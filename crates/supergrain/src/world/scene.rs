@@ -775,6 +775,8 @@ impl Scene {
         }
         let materials: Vec<Material> = self.groups.iter().map(|g| g.material).collect();
         let placed: Vec<Body> = self.grains.iter().map(Placed::body).collect();
+        let boxes: Vec<Aabb> = placed.iter().map(Body::bounding_box).collect();
+        let narrow = self.settings.narrow();
         for (k, (g, body)) in self.grains.iter().zip(&placed).enumerate() {
             let error = |message: String| SceneError::Grain {
                 line: g.line,
@@ -792,7 +794,7 @@ impl Scene {
             // `PLACED_TOLERANCE` of its smallest semi-axis (a grain set on the floor by hand,
             // `y = b`, reaches 1.8e-16 below it by its rounded box).
             let thin = g.shape.min_semi_axis();
-            let bb = body.bounding_box();
+            let bb = boxes[k];
             let outside = checks::depth_outside(&self.walls, &bb);
             if outside > PLACED_TOLERANCE * thin {
                 return Err(error(format!(
@@ -807,7 +809,6 @@ impl Scene {
                     checks::short(self.walls.floor),
                 )));
             }
-            let narrow = self.settings.narrow();
             if let Some(p) = self.planes.iter().position(|w| {
                 body.wall_contact(w, &narrow)
                     .penetration
@@ -815,14 +816,14 @@ impl Scene {
             }) {
                 return Err(error(format!("lies in plane {}", p + 1)));
             }
-            if let Some(j) = placed[..k].iter().position(|o| {
+            if let Some(j) = placed[..k].iter().zip(&boxes).position(|(o, ob)| {
                 // Fixed grains may overlap each other (the joint of a hopper's sides): they
                 // never meet.
                 if body.is_static() && o.is_static() {
                     return false;
                 }
                 let limit = PLACED_TOLERANCE * thin.min(o.shape.min_semi_axis());
-                o.bounding_box().intersects(&bb)
+                ob.intersects(&bb)
                     && body
                         .contact(o, &narrow)
                         .penetration
