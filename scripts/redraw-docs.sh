@@ -35,4 +35,7 @@ python3 scripts/beverloo.py --scene-only 8 --out "$tmp" > /dev/null
 "$sg" run "$tmp/silo8.toml" --steps 1200 --dump "$tmp/silo.json" --quiet
 "$sg" render "$tmp/silo.json" -o docs/silo.png --width 240 --colour palette
 
-echo "redrawn: docs/silo.png docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"
+# The hopper of docs/reference.md#boundaries.
+"$sg" run examples/scenes/hopper.toml --png docs/hopper.png --quiet
+
+echo "redrawn: docs/hopper.png docs/silo.png docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"

@@ -239,7 +239,10 @@ impl Sim {
             settings: world.settings,
             groups: Vec::new(),
             wall_material: world.wall_material,
-            planes: world.planes.clone(),
+            boundaries: world.boundaries.clone(),
+            boundary_names: (1..=world.boundaries.len())
+                .map(|k| format!("boundary {k}"))
+                .collect(),
             grains: Vec::new(),
             sinks: world.sinks.clone(),
             measures: world.measures.clone(),

@@ -6,7 +6,7 @@
 use crate::contact::{Contact, Narrow, WallContact};
 use crate::geometry::{Aabb, Vec2};
 use crate::settings::Settings;
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::shape::{Boundary, HalfPlane, Pose, Superellipse};
 
 /// A body's name for as long as the world lives: given in the order bodies join it (the first
 /// grain to appear is 0), never given again when a body leaves, kept in dumps. Trajectories,
@@ -140,7 +140,7 @@ impl Body {
     }
 
     /// Its contact with `wall` at its pose, as `narrow` answers it.
-    pub fn wall_contact(&self, wall: &HalfPlane, narrow: &Narrow) -> WallContact {
+    pub fn wall_contact(&self, wall: &Boundary, narrow: &Narrow) -> WallContact {
         narrow.wall(&self.shape, &self.pose(), wall)
     }
 
@@ -163,12 +163,14 @@ pub struct Walls {
 }
 
 impl Walls {
-    pub fn half_planes(&self) -> [HalfPlane; 3] {
+    /// The three walls as boundaries: left, right, floor.
+    pub fn boundaries(&self) -> [Boundary; 3] {
         [
-            HalfPlane::left(self.left).expect("finite walls"),
-            HalfPlane::right(self.right).expect("finite walls"),
-            HalfPlane::floor(self.floor).expect("finite walls"),
+            HalfPlane::left(self.left),
+            HalfPlane::right(self.right),
+            HalfPlane::floor(self.floor),
         ]
+        .map(|w| Boundary::Plane(w.expect("finite walls")))
     }
 }
 

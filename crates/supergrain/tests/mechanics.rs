@@ -7,7 +7,7 @@ use supergrain::body::{Body, Material, Walls};
 use supergrain::contact::NarrowPhase;
 use supergrain::geometry::Vec2;
 use supergrain::settings::{Model, Settings};
-use supergrain::shape::{HalfPlane, Pose, Superellipse};
+use supergrain::shape::{Boundary, HalfPlane, Pose, Superellipse};
 use supergrain::world::{Queue, World};
 
 const G: f64 = 9.8;
@@ -207,10 +207,33 @@ fn incline(theta: f64) -> (HalfPlane, Vec2, Vec2) {
     (HalfPlane::new(n, 0.0).unwrap(), n, t)
 }
 
+/// What the incline is: a half-plane, or a thick segment (issue 41's boundaries) whose top face
+/// is the same line.
+#[derive(Clone, Copy, Debug)]
+enum Surface {
+    Plane,
+    Segment,
+}
+
+const SURFACES: [Surface; 2] = [Surface::Plane, Surface::Segment];
+
 /// A grain resting on an incline: returns how far it moved along the slope (down positive) in
 /// `seconds`, and its distance down the slope at each step.
-fn on_incline(shape: Superellipse, theta: f64, mu: f64, seconds: f64) -> Vec<f64> {
+fn on_incline(
+    surface: Surface,
+    shape: Superellipse,
+    theta: f64,
+    mu: f64,
+    seconds: f64,
+) -> Vec<f64> {
     let (plane, n, t) = incline(theta);
+    let boundary = match surface {
+        Surface::Plane => Boundary::Plane(plane),
+        // 0.2 thick, its top face through the origin, from 20 down the slope to 20 up it.
+        Surface::Segment => {
+            Boundary::segment(n * -0.1 - t * 20.0, n * -0.1 + t * 20.0, 0.2).unwrap()
+        }
+    };
     // Resting on its flat face (the semi-axis y across the slope): the grain's x axis along it.
     let lift = shape.semi_axes().y;
     let start = t * 5.0 + n * (lift - 0.002);
@@ -229,7 +252,7 @@ fn on_incline(shape: Superellipse, theta: f64, mu: f64, seconds: f64) -> Vec<f64
         soft(),
     );
     w.wall_material = material;
-    w.planes.push(plane);
+    w.boundaries.push(boundary);
     let steps = (seconds / w.settings.step).round() as usize;
     let mut down = Vec::with_capacity(steps);
     for _ in 0..steps {
@@ -244,15 +267,17 @@ fn a_block_on_an_incline_below_its_friction_angle_stays_put() {
     let block = Superellipse::new([0.3, 0.2], [8.0, 8.0]).unwrap();
     let mu: f64 = 0.6;
     let theta = 0.8 * mu.atan();
-    let down = on_incline(block, theta, mu, 10.0);
-    // Settling onto the slope takes a moment; after it, no creep.
-    let settled = down[60];
-    let drift = (down.last().unwrap() - settled).abs();
-    assert!(
-        drift < 1e-3,
-        "drifted {drift} down the slope in 9 s (tan theta {} < mu {mu})",
-        theta.tan()
-    );
+    for surface in SURFACES {
+        let down = on_incline(surface, block, theta, mu, 10.0);
+        // Settling onto the slope takes a moment; after it, no creep.
+        let settled = down[60];
+        let drift = (down.last().unwrap() - settled).abs();
+        assert!(
+            drift < 1e-3,
+            "{surface:?}: drifted {drift} down the slope in 9 s (tan theta {} < mu {mu})",
+            theta.tan()
+        );
+    }
 }
 
 #[test]
@@ -260,33 +285,37 @@ fn a_block_above_its_friction_angle_slides_at_g_sin_minus_mu_cos() {
     let block = Superellipse::new([0.3, 0.2], [8.0, 8.0]).unwrap();
     let mu: f64 = 0.3;
     let theta: f64 = 0.5;
-    let down = on_incline(block, theta, mu, 1.5);
-    // From 0.5 s to 1.5 s: s(t) = s0 + v0 t + a t^2 / 2, fitted from three samples.
-    let h = 1.0 / 60.0;
-    let (i0, i1, i2) = (20, 50, 80);
-    let dt = (i1 - i0) as f64 * h;
-    let a = (down[i2] - 2.0 * down[i1] + down[i0]) / (dt * dt);
-    let want = G * (theta.sin() - mu * theta.cos());
-    assert!(
-        (a - want).abs() <= 0.02 * want,
-        "slid at {a}, g (sin - mu cos) = {want}"
-    );
+    for surface in SURFACES {
+        let down = on_incline(surface, block, theta, mu, 1.5);
+        // From 0.5 s to 1.5 s: s(t) = s0 + v0 t + a t^2 / 2, fitted from three samples.
+        let h = 1.0 / 60.0;
+        let (i0, i1, i2) = (20, 50, 80);
+        let dt = (i1 - i0) as f64 * h;
+        let a = (down[i2] - 2.0 * down[i1] + down[i0]) / (dt * dt);
+        let want = G * (theta.sin() - mu * theta.cos());
+        assert!(
+            (a - want).abs() <= 0.02 * want,
+            "{surface:?}: slid at {a}, g (sin - mu cos) = {want}"
+        );
+    }
 }
 
 #[test]
 fn a_disk_rolls_down_an_incline_without_slipping_at_two_thirds_g_sin() {
     let theta: f64 = 0.4;
     let r = 0.3;
-    let down = on_incline(disk(r), theta, 0.8, 1.5);
-    let h = 1.0 / 60.0;
-    let (i0, i1, i2) = (20, 50, 80);
-    let dt = (i1 - i0) as f64 * h;
-    let a = (down[i2] - 2.0 * down[i1] + down[i0]) / (dt * dt);
-    let want = 2.0 / 3.0 * G * theta.sin();
-    assert!(
-        (a - want).abs() <= 0.02 * want,
-        "rolled at {a}, (2/3) g sin theta = {want}"
-    );
+    for surface in SURFACES {
+        let down = on_incline(surface, disk(r), theta, 0.8, 1.5);
+        let h = 1.0 / 60.0;
+        let (i0, i1, i2) = (20, 50, 80);
+        let dt = (i1 - i0) as f64 * h;
+        let a = (down[i2] - 2.0 * down[i1] + down[i0]) / (dt * dt);
+        let want = 2.0 / 3.0 * G * theta.sin();
+        assert!(
+            (a - want).abs() <= 0.02 * want,
+            "{surface:?}: rolled at {a}, (2/3) g sin theta = {want}"
+        );
+    }
 }
 
 /// Runs `w` for `seconds` and returns the largest distance any grain moved from its place

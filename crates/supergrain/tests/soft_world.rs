@@ -146,8 +146,8 @@ exponent = 6.0
 #[test]
 fn grains_poured_on_a_plane_stay_above_it_and_resume_bit_for_bit() {
     let scene = Scene::from_toml(SLOPE).unwrap();
-    assert_eq!(scene.planes.len(), 1);
-    let plane = scene.planes[0];
+    assert_eq!(scene.boundaries.len(), 1);
+    let plane = *scene.boundaries[0].as_plane().expect("a plane");
     let mut w = World::new(&scene);
     let mut deepest = 0.0f64;
     while w.step < 600 {
@@ -162,7 +162,7 @@ fn grains_poured_on_a_plane_stay_above_it_and_resume_bit_for_bit() {
         }
         if w.step == 300 {
             let saved = text(&w);
-            assert!(saved.contains("\"planes\""));
+            assert!(saved.contains("\"boundaries\""));
             let mut resumed = Dump::from_json(&saved).unwrap().to_world().unwrap();
             run(&mut resumed, 600);
             let mut straight = Dump::from_json(&saved).unwrap().to_world().unwrap();

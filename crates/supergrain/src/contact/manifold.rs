@@ -25,7 +25,7 @@
 use super::certified::{radial_to_boundary, ray32};
 use super::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
-use crate::shape::{HalfPlane, Pose, Superellipse, pow32};
+use crate::shape::{Boundary, Pose, Superellipse, pow32};
 
 /// At most this many points per manifold: the middle and the two ends.
 pub const MAX_POINTS: usize = 3;
@@ -408,21 +408,26 @@ pub fn grain_manifold(
 pub fn wall_manifold(
     shape: &Superellipse,
     pose: &Pose,
-    wall: &HalfPlane,
+    wall: &Boundary,
     p: &WallPenetration,
     margin: f64,
 ) -> Manifold {
-    let normal = wall.normal();
-    let depth = (-wall.value(p.deepest)).max(0.0);
+    // A half-plane's own normal; a curved or ended boundary's along the push, which is the
+    // distance's gradient at the deepest point.
+    let normal = match wall.as_plane() {
+        Some(w) => w.normal(),
+        None => p.push.direction().unwrap_or_else(|| wall.normal(p.deepest)),
+    };
+    let depth = (-wall.distance(p.deepest)).max(0.0);
     let middle = p.deepest + p.push * 0.5;
     let mut m = Manifold::new(normal, middle, depth);
     if shape.is_star() {
-        let found = regions(shape, pose, |q: Vec2| wall.value(q), margin, None);
+        let found = regions(shape, pose, |q: Vec2| wall.distance(q), margin, None);
         m.regions(found, min_gap(shape, shape));
         return m;
     }
     if blocky(shape) {
-        let gap = |q: Vec2| wall.value(q);
+        let gap = |q: Vec2| wall.distance(q);
         m.sides(
             patch(
                 shape,
@@ -820,13 +825,14 @@ mod tests {
         use crate::contact::{contact, contact_wall};
         use crate::subdivision::Precision;
         use std::f64::consts::FRAC_PI_2;
-        let floor = HalfPlane::floor(0.0).unwrap();
+        let plane = crate::shape::HalfPlane::floor(0.0).unwrap();
+        let floor = Boundary::Plane(plane);
         let prec = Precision::default().deeper(3);
         for e in [8.0, 50.0, 100.0, 200.0, 1000.0] {
             let s = Superellipse::new([0.29, 0.228], [e, e]).unwrap();
             for tip in [-1e-3, 1e-3] {
                 let pose = Pose::new(Vec2::new(-0.25, 0.2897), FRAC_PI_2 + tip).unwrap();
-                let p = contact_wall(&s, &pose, &floor, &prec)
+                let p = contact_wall(&s, &pose, &plane, &prec)
                     .penetration
                     .expect("on the floor");
                 let m = wall_manifold(&s, &pose, &floor, &p, 0.02);

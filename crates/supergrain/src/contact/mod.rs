@@ -25,7 +25,9 @@ pub use superellipse_superellipse::{
     contact, contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints,
     contact_with_cells, unresolved,
 };
-pub use superellipse_wall::{contact_wall, contact_wall_quadtree, contact_wall_with_cells};
+pub use superellipse_wall::{
+    contact_boundary, contact_wall, contact_wall_quadtree, contact_wall_with_cells,
+};
 
 use crate::geometry::Vec2;
 

@@ -4,11 +4,11 @@
 //! deeper for a star, three for a wall).
 
 use super::{
-    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_quadtree,
-    contact_quadtree_midpoints, contact_wall, contact_wall_quadtree, contact_warm,
-    contact_warm_midpoints, disk_disk, disk_disk_certified,
+    Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_boundary,
+    contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints, disk_disk,
+    disk_disk_certified,
 };
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::shape::{Boundary, Pose, Superellipse};
 use crate::subdivision::Precision;
 
 /// Which narrow phase answers grain-grain and grain-wall contact (a scene's `narrow_phase`).
@@ -102,20 +102,25 @@ impl Narrow {
         }
     }
 
-    /// A grain against a wall: certified (by the quadtree alone where the scene asked for it),
-    /// or for a disk under the analytic path its centre's distance.
-    pub fn wall(&self, a: &Superellipse, pa: &Pose, wall: &HalfPlane) -> WallContact {
+    /// A grain against a boundary: certified (by the quadtree alone where the scene asked for
+    /// it), or for a disk under the analytic path its centre's distance.
+    pub fn wall(&self, a: &Superellipse, pa: &Pose, wall: &Boundary) -> WallContact {
         match self.phase {
-            NarrowPhase::Interval => contact_wall(a, pa, wall, &self.wall_precision()),
-            NarrowPhase::Quadtree => contact_wall_quadtree(a, pa, wall, &self.wall_precision()),
+            NarrowPhase::Interval => contact_boundary(a, pa, wall, &self.wall_precision(), false),
+            NarrowPhase::Quadtree => contact_boundary(a, pa, wall, &self.wall_precision(), true),
             NarrowPhase::Analytic => {
                 let r = a.semi_axes().x;
-                let deepest = pa.center() - wall.normal() * r;
-                let g = wall.value(deepest);
+                let n = wall.normal(pa.center());
+                let deepest = pa.center() - n * r;
+                // A half-plane's as it always was (the same bits); the others' by the centre.
+                let g = match wall.as_plane() {
+                    Some(w) => w.value(deepest),
+                    None => wall.distance(pa.center()) - r,
+                };
                 WallContact {
                     penetration: (g < 0.0).then(|| WallPenetration {
                         deepest,
-                        push: wall.normal() * -g,
+                        push: n * -g,
                     }),
                     cells: 0,
                 }

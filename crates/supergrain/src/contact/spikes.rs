@@ -33,9 +33,9 @@ const MAX_LEVELS: u32 = 7;
 /// it: the rounding of world coordinates (`1e-17` off the axis) would take a point proven
 /// inside by `1e-10` to `1e-5` outside at exponent 0.25. The caller's slack covers a few ulps
 /// of the world coordinates.
-pub(crate) fn spike_witness(
+pub(crate) fn spike_witness<O: ImplicitShape + ?Sized>(
     own: &PlacedSuperellipse,
-    other: &PlacedSuperellipse,
+    other: &O,
     region: &Aabb,
     cell: f64,
     slack: f64,
@@ -91,9 +91,9 @@ fn clip(a: Vec2, b: Vec2, region: &Aabb) -> Option<(f64, f64)> {
 /// Branch and bound along one half-axis: a piece whose box is proven outside `other` is
 /// dropped; the rest are halved `levels` times and their midpoints tried.
 #[allow(clippy::too_many_arguments)] // one recursion's state, passed down as it is
-fn search(
+fn search<O: ImplicitShape + ?Sized>(
     own: &PlacedSuperellipse,
-    other: &PlacedSuperellipse,
+    other: &O,
     a: Vec2,
     b: Vec2,
     (t0, t1): (f64, f64),

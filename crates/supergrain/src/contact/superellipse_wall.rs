@@ -1,8 +1,10 @@
 use super::certified;
+use super::spikes::spike_witness;
+use super::superellipse_superellipse::deeper;
 use super::{WallContact, WallPenetration};
-use crate::geometry::Aabb;
+use crate::geometry::{Aabb, Vec2};
 use crate::interval::PlacedSuperellipse;
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::shape::{Boundary, HalfPlane, Pose, Superellipse};
 use crate::subdivision::{CellSink, Precision, deepest_points};
 
 /// The contact of a placed superellipse with a wall (paper III-B).
@@ -90,6 +92,106 @@ fn quadtree<S: CellSink + ?Sized>(
         penetration: found.in_a.map(|d| WallPenetration {
             deepest: d.point,
             push: wall.project(d.point) - d.point,
+        }),
+        cells: found.cells,
+    }
+}
+
+/// The contact of a placed superellipse with any boundary (issue 41), proven as the wall's is:
+/// - a half-plane: [`contact_wall`] (or the quadtree alone, `quadtree_only`);
+/// - any grain whose centre is farther from the solid than its bounding radius: apart, from
+///   the signed distance, which is 1-Lipschitz (within its rounding, [`Boundary::pad`]);
+/// - a disk: the closed form of a disk against a distance, `depth = r - g(centre)`, reported
+///   when it exceeds the rounding (as [`super::disk_disk_certified`] does two disks);
+/// - a grain on one face of a thick segment, away from its ends: that face's half-plane
+///   ([`Boundary::face_for`]), answered by [`contact_wall`];
+/// - otherwise the quadtree on `shape box ∩ boundary box`, whose deepest point is proven in
+///   both. The push takes the deepest point to the nearest point of the boundary's surface.
+pub fn contact_boundary(
+    shape: &Superellipse,
+    pose: &Pose,
+    boundary: &Boundary,
+    precision: &Precision,
+    quadtree_only: bool,
+) -> WallContact {
+    let none = WallContact {
+        penetration: None,
+        cells: 0,
+    };
+    if let Some(wall) = boundary.as_plane() {
+        return if quadtree_only {
+            contact_wall_quadtree(shape, pose, wall, precision)
+        } else {
+            contact_wall(shape, pose, wall, precision)
+        };
+    }
+    let c = pose.center();
+    let (g, pad) = (boundary.distance(c), boundary.pad(c));
+    if g > shape.bounding_radius() + pad {
+        return none;
+    }
+    if !quadtree_only {
+        if shape.is_circle() {
+            let r = shape.semi_axes().x;
+            let depth = r - g;
+            if depth <= pad {
+                return none;
+            }
+            // Where the disk reaches past a thick segment's or arc's middle line, that line's
+            // point is its deepest (the whole half-thickness in), and the push still takes the
+            // disk out on its centre's side.
+            let n = boundary.normal(c);
+            let past = boundary.half_thickness().is_some_and(|h| depth > h);
+            return WallContact {
+                penetration: Some(WallPenetration {
+                    deepest: c - n * if past {
+                        r - depth + boundary.half_thickness().unwrap_or(0.0)
+                    } else {
+                        r
+                    },
+                    push: n * depth,
+                }),
+                cells: 0,
+            };
+        }
+        let rotation = pose.rotation();
+        let support = |d: Vec2| shape.local_support(rotation.apply_inverse(d));
+        if let Some(face) = boundary.face_for(c, support) {
+            return contact_wall(shape, pose, &face, precision);
+        }
+    }
+    let Some(region) = shape
+        .bounding_box(pose)
+        .intersection(&boundary.bounding_box())
+    else {
+        return none;
+    };
+    let placed = PlacedSuperellipse::new(*shape, *pose);
+    let found = deepest_points(&placed, boundary, &region, precision, false, &mut ());
+    // Spikes thinner than a cell, along the half-axes, as for grain pairs
+    // ([`super::spikes`]): "apart" then means no point more than four final cells in.
+    let slack = 8.0 * f64::EPSILON * (c.norm() + region.min.norm().max(region.max.norm()));
+    let cell = precision.cell_size(&region);
+    let deepest = deeper(
+        found.in_a,
+        spike_witness(&placed, boundary, &region, cell, slack),
+    );
+    WallContact {
+        penetration: deepest.map(|d| {
+            // Past a thick segment's or arc's middle line the nearest surface is on the far
+            // side; the grain goes back out on its centre's side.
+            let past = boundary
+                .half_thickness()
+                .is_some_and(|h| -boundary.distance(d.point) > 0.5 * h);
+            let push = if past {
+                boundary.normal(c) * -boundary.distance(d.point)
+            } else {
+                boundary.project(d.point) - d.point
+            };
+            WallPenetration {
+                deepest: d.point,
+                push,
+            }
         }),
         cells: found.cells,
     }

@@ -2,7 +2,7 @@
 
 use super::{Exponent, Interval, down, up};
 use crate::geometry::{Aabb, Rotation, Vec2};
-use crate::shape::{HalfPlane, Pose, Superellipse};
+use crate::shape::{Boundary, HalfPlane, Pose, Superellipse};
 
 /// A closed shape given by an implicit function `f`, inside where `f < 0` (paper II).
 ///
@@ -543,5 +543,40 @@ impl ImplicitShape for HalfPlane {
 
     fn minima(&self) -> Minima {
         Minima::Nowhere
+    }
+}
+
+impl ImplicitShape for Boundary {
+    /// A half-plane's as above; the others' from their distances' extremes over the box
+    /// ([`Boundary::enclose`]), widened by their rounding.
+    fn enclose(&self, cell: &Aabb) -> Interval {
+        if let Boundary::Plane(w) = self {
+            return w.enclose(cell);
+        }
+        let (lo, hi) = Boundary::enclose(self, cell);
+        Interval::new(lo, hi)
+    }
+
+    fn value(&self, p: Vec2) -> f64 {
+        self.distance(p)
+    }
+
+    fn gradient(&self, p: Vec2) -> Vec2 {
+        self.normal(p)
+    }
+
+    fn bounding_box(&self) -> Aabb {
+        Boundary::bounding_box(self)
+    }
+
+    fn minima(&self) -> Minima {
+        match self {
+            // A half-plane's `g` is linear, and a drum's falls along every ray from its centre:
+            // over a closed region both are least on its boundary. A disk's grows along every
+            // ray from its centre; a segment's or an arc's minima are their whole core.
+            Boundary::Plane(_) | Boundary::Circle { inside: true, .. } => Minima::Nowhere,
+            Boundary::Circle { center, .. } => Minima::At(*center),
+            _ => Minima::Unknown,
+        }
     }
 }

@@ -14,7 +14,7 @@ use crate::contact::WarmStart;
 use crate::geometry::{Aabb, Vec2};
 use crate::measure::series::Series;
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
-use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
+use crate::shape::{Boundary, BoundarySpec, HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
 use crate::solver::soft::{Kept, MAX_WALLS, STATIC};
 use crate::subdivision::Precision;
@@ -131,7 +131,8 @@ fn is_zero_u64(n: &u64) -> bool {
     *n == 0
 }
 
-/// A wall at any angle (see [`HalfPlane`]).
+/// A wall at any angle (see [`HalfPlane`]), as dumps before `boundaries` wrote them: read,
+/// never written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlaneJson {
@@ -320,9 +321,13 @@ pub struct Dump {
     pub materials: Vec<MaterialJson>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wall_material: Option<MaterialJson>,
-    /// Walls at any angle: `g = normal . p - offset`, solid where `g < 0`.
+    /// Dumps before `boundaries`: walls at any angle, `g = normal . p - offset`, solid where
+    /// `g < 0`. Read, never written.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub planes: Vec<PlaneJson>,
+    /// The boundaries besides the box's walls, in order (a polyline as its segments).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub boundaries: Vec<BoundarySpec>,
     /// The soft step's contacts kept for the next step.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactJson>,
@@ -478,14 +483,8 @@ impl Dump {
                 Vec::new()
             },
             wall_material: (s.model == Model::Soft).then(|| (&world.wall_material).into()),
-            planes: world
-                .planes
-                .iter()
-                .map(|p| PlaneJson {
-                    normal: p.normal().to_array(),
-                    offset: p.offset(),
-                })
-                .collect(),
+            planes: Vec::new(),
+            boundaries: world.boundaries.iter().map(BoundarySpec::of).collect(),
             contacts: if s.model == Model::Soft {
                 kept_contacts(world)
             } else {
@@ -519,6 +518,7 @@ impl Dump {
             ("materials", !self.materials.is_empty()),
             ("wall_material", self.wall_material.is_some()),
             ("planes", !self.planes.is_empty()),
+            ("boundaries", !self.boundaries.is_empty()),
             ("contacts", !self.contacts.is_empty()),
         ]
         .into_iter()
@@ -897,26 +897,44 @@ impl Dump {
         }
         world.materials = materials;
         world.wall_material = wall_material;
-        if self.planes.len() + 3 > MAX_WALLS {
-            return Err(DumpError::Walls(format!(
-                "at most {} planes, got {}",
-                MAX_WALLS - 3,
-                self.planes.len()
-            )));
+        if !self.planes.is_empty() && !self.boundaries.is_empty() {
+            return Err(DumpError::Walls(
+                "planes and boundaries: a dump holds one or the other (planes only before \
+                 boundaries)"
+                    .into(),
+            ));
         }
+        let mut boundaries = Vec::new();
         for (k, p) in self.planes.iter().enumerate() {
             let plane = HalfPlane::new(Vec2::from(p.normal), p.offset)
                 .map_err(|e| DumpError::Walls(format!("planes[{k}]: {e}")))?;
+            boundaries.push((format!("planes[{k}]"), Boundary::Plane(plane)));
+        }
+        for (k, spec) in self.boundaries.iter().enumerate() {
+            let name = format!("boundaries[{k}]");
+            let pieces = spec
+                .pieces()
+                .map_err(|e| DumpError::Walls(format!("{name}: {e}")))?;
+            boundaries.extend(pieces.into_iter().map(|b| (name.clone(), b)));
+        }
+        if boundaries.len() + 3 > MAX_WALLS {
+            return Err(DumpError::Walls(format!(
+                "at most {} boundaries, got {}",
+                MAX_WALLS - 3,
+                boundaries.len()
+            )));
+        }
+        for (name, boundary) in boundaries {
             if !world.pending.is_empty() {
                 let radii = [
                     world.pending.smallest_bounding_radius(),
                     world.pending.largest_bounding_radius(),
                 ];
                 let (rule, thinnest) = (world.pending.rule(), world.pending.smallest_semi_axis());
-                checks::check_plane(&plane, k, &world.walls, top, rule, radii, thinnest)
-                    .map_err(|e| DumpError::Walls(format!("planes[{k}]: {e}")))?;
+                checks::check_boundary(&boundary, &name, &world.walls, top, rule, radii, thinnest)
+                    .map_err(DumpError::Walls)?;
             }
-            world.planes.push(plane);
+            world.boundaries.push(boundary);
         }
         for (k, m) in self.measures.iter().enumerate() {
             if m.every == 0 {
@@ -932,7 +950,7 @@ impl Dump {
             let bad = |why: &str| DumpError::Solver(format!("contacts[{index}]: {why}"));
             let key = match (c.b, c.wall) {
                 (Some(b), None) if c.a < b && b < n => (c.a, b),
-                (None, Some(w)) if c.a < n && w < 3 + self.planes.len() => (c.a, STATIC - w),
+                (None, Some(w)) if c.a < n && w < 3 + world.boundaries.len() => (c.a, STATIC - w),
                 _ => {
                     return Err(bad(
                         "needs grains a < b, or a grain a and a wall of the world",

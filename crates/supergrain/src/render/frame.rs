@@ -109,10 +109,15 @@ pub fn world_region(world: &World) -> Aabb {
         .fold(world.pending.largest_bounding_radius(), f64::max);
     let top = (world.top + largest).max(highest).max(w.floor + 1.0);
     let margin = 0.04 * (w.right - w.left);
-    Aabb::new(
+    let mut region = Aabb::new(
         Vec2::new(w.left - margin, w.floor - margin),
         Vec2::new(w.right + margin, top + margin),
-    )
+    );
+    // Boundaries beyond the box (a drum's circle) are in the picture too.
+    for b in world.boundaries.iter().filter_map(|b| b.extent()) {
+        region = region.union(&b.grown(margin));
+    }
+    region
 }
 
 /// The walls', the planes' and the fixed bodies' colour.
@@ -161,14 +166,26 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
         for s in &world.sinks {
             pen.stroke_box(&mut pixmap, &s.region, SINK_COLOUR, 1.5);
         }
-        // Planes: the part of each line across the picture.
+        // Planes: the part of each line across the picture; the other boundaries' solids
+        // painted as the grains are.
         let region = view.region;
         let reach = region.diagonal();
-        for plane in &world.planes {
-            let n = plane.normal();
-            let foot = plane.project(region.center());
-            let along = Vec2::new(-n.y, n.x) * reach;
-            pen.polyline(&mut pixmap, &[foot - along, foot + along], WALL_COLOUR, 3.0);
+        for boundary in &world.boundaries {
+            match boundary.as_plane() {
+                Some(plane) => {
+                    let n = plane.normal();
+                    let foot = plane.project(region.center());
+                    let along = Vec2::new(-n.y, n.x) * reach;
+                    pen.polyline(&mut pixmap, &[foot - along, foot + along], WALL_COLOUR, 3.0);
+                }
+                None => paint_shape_with(
+                    pixmap.data_mut(),
+                    &view,
+                    boundary,
+                    WALL_COLOUR,
+                    style.antialias,
+                ),
+            }
         }
     }
     if style.boxes {
@@ -201,8 +218,8 @@ const FORCE_WIDTH: f32 = 7.0;
 /// last step's forces, or, for a world read from a dump, from the impulses its contacts kept.
 fn draw_forces(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
     let colour = [0xb7, 0x1c, 0x1c, 230];
-    let mut walls = world.walls.half_planes().to_vec();
-    walls.extend_from_slice(&world.planes);
+    let mut walls = world.walls.boundaries().to_vec();
+    walls.extend_from_slice(&world.boundaries);
     let mut chains: Vec<(Vec2, Vec2, f64)> = Vec::new();
     let line = |i: usize, j: usize, f: f64, chains: &mut Vec<(Vec2, Vec2, f64)>| {
         let from = world.bodies[i].center;

@@ -3,10 +3,12 @@
 //! A shape knows its implicit function, gradient, bounding box and mass properties; it knows
 //! nothing of intervals, trees or simulation.
 
+mod boundary;
 mod half_plane;
 mod pose;
 mod superellipse;
 
+pub use boundary::{ArcSpec, Boundary, BoundarySpec, CircleSpec, PlaneSpec};
 pub use half_plane::HalfPlane;
 pub use pose::Pose;
 pub use superellipse::{EXPONENT_RANGE, SEMI_AXIS_RANGE, Superellipse};

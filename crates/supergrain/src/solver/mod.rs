@@ -19,7 +19,7 @@ use crate::broad_phase::BroadPhase;
 use crate::contact::{Contact, WarmStart};
 use crate::geometry::{Aabb, Vec2};
 use crate::settings::{Rotation, Settings};
-use crate::shape::{HalfPlane, Pose};
+use crate::shape::{Boundary, Pose};
 use std::collections::HashMap;
 use std::collections::hash_map::Entry;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -92,10 +92,10 @@ pub fn step_or_stop<B: BroadPhase>(
     stop: &AtomicBool,
 ) -> Result<StepStats, Stopped> {
     let mut stats = StepStats::default();
-    let half_planes = walls.half_planes();
+    let boundaries = walls.boundaries();
     let ctx = Context {
-        walls: &half_planes,
-        wall_boxes: half_planes.map(|w| w.bounding_box()),
+        walls: &boundaries,
+        wall_boxes: boundaries.map(|w| w.bounding_box()),
         settings,
         stop,
     };
@@ -328,7 +328,7 @@ fn wake_neighbours<B: BroadPhase>(
 
 /// What every projection pass of a step reads.
 struct Context<'a> {
-    walls: &'a [HalfPlane; 3],
+    walls: &'a [Boundary; 3],
     /// The walls' boxes: a grain whose box misses a wall's is not tested against it (the narrow
     /// phase would find the same from the same box, after computing it again).
     wall_boxes: [Aabb; 3],
@@ -442,7 +442,7 @@ fn resolve<B: BroadPhase>(
             .wall(&bodies[i].shape, &work.poses[i], wall);
         if let Some(p) = contact.penetration {
             // Walls do not move: the grain takes the whole correction.
-            let push = safe_push(p.push, wall.normal(), cap(&bodies[i]));
+            let push = safe_push(p.push, wall.normal(p.deepest), cap(&bodies[i]));
             project(&mut bodies[i], p.deepest, push, 1.0, settings.slop);
             work.moved(i, &bodies[i], broad);
             hit += 1;

@@ -44,7 +44,7 @@ use crate::contact::manifold::{Manifold, ManifoldPoint, grain_manifold, wall_man
 use crate::contact::{NarrowPhase, WarmStart};
 use crate::geometry::{Aabb, Rotation, Vec2};
 use crate::settings::{Settings, SoftSettings};
-use crate::shape::{HalfPlane, Pose};
+use crate::shape::{Boundary, Pose};
 
 /// The coefficients of a soft constraint of frequency `hertz` and damping ratio `zeta`, for a
 /// substep `h` (Catto's "soft step": a spring-damper solved implicitly, expressed as a bias
@@ -129,12 +129,12 @@ fn gap_contact(n: Vec2, gap: f64, from: Vec2, along: f64) -> Option<Manifold> {
 /// No body: the wall side of a grain-wall contact.
 pub const STATIC: usize = usize::MAX;
 
-/// The most walls a world can have: the box's three and the planes (see
-/// [`crate::world::World::planes`]).
-pub const MAX_WALLS: usize = 64;
+/// The most walls a world can have: the box's three and the boundaries (see
+/// [`crate::world::World::boundaries`]; a polyline is one per segment).
+pub const MAX_WALLS: usize = 1 << 16;
 
 /// The key a contact persists under: the two grains (`j` is `STATIC - w` for wall `w`: 0, 1,
-/// 2 the box's left, right and floor, then the planes in order).
+/// 2 the box's left, right and floor, then the boundaries in order).
 pub type PairKey = (usize, usize);
 
 /// The impulses a point carried at the end of a step, kept for the next one.
@@ -252,7 +252,7 @@ pub struct SoftWorkspace {
     constraints: Vec<Constraint>,
     start: Vec<(Vec2, f64)>,
     solids: Vec<Solid>,
-    planes: Vec<HalfPlane>,
+    walls: Vec<Boundary>,
     /// Whether each grain is awake this step, and its inverse masses as the solver sees them
     /// (a sleeper's are 0: it holds its neighbours as a wall does).
     awake: Vec<bool>,
@@ -335,7 +335,7 @@ impl SoftWorkspace {
 pub fn step_or_stop(
     bodies: &mut [Body],
     walls: &Walls,
-    planes: &[HalfPlane],
+    boundaries: &[Boundary],
     materials: &[Material],
     wall: &Material,
     settings: &Settings,
@@ -360,12 +360,12 @@ pub fn step_or_stop(
             .map(|(&m, &awake)| if awake { m } else { (0.0, 0.0) }),
     );
     let gravity = Vec2::new(0.0, -settings.gravity);
-    let mut all = std::mem::take(&mut work.planes);
+    let mut all = std::mem::take(&mut work.walls);
     all.clear();
-    all.extend(walls.half_planes());
-    all.extend_from_slice(planes);
+    all.extend(walls.boundaries());
+    all.extend_from_slice(boundaries);
     let found = find_contacts(bodies, &all, settings, work, stop);
-    work.planes = all;
+    work.walls = all;
     let mut stats = found?;
     prepare(bodies, &material, wall, settings, hs, work);
     stats.contacts = work.constraints.len();
@@ -559,7 +559,7 @@ const PAIR_CHUNK: usize = 1024;
 /// of pairs, so the result does not depend on the number of threads.
 fn find_contacts(
     bodies: &[Body],
-    walls: &[HalfPlane],
+    walls: &[Boundary],
     settings: &Settings,
     work: &mut SoftWorkspace,
     stop: &AtomicBool,
@@ -703,7 +703,7 @@ fn find_contacts(
             ));
         }
     }
-    let wall_boxes: Vec<Aabb> = walls.iter().map(HalfPlane::bounding_box).collect();
+    let wall_boxes: Vec<Aabb> = walls.iter().map(Boundary::bounding_box).collect();
     let (awake, boxes) = (&work.awake, &work.boxes);
     // Each awake grain against each wall whose box it meets, on all cores, collected in the
     // order of the grains and walls.
@@ -727,7 +727,8 @@ fn find_contacts(
                     None if disks[i] => {
                         // The normal from the wall (A) into the disk (B).
                         let r = b.shape.semi_axes().x;
-                        let (n, gap) = (wall.normal(), wall.value(pose.center()) - r);
+                        let c = pose.center();
+                        let (n, gap) = (wall.normal(c), wall.distance(c) - r);
                         gap_contact(n, gap, pose.center(), -(r + 0.5 * gap))
                     }
                     None => None,

@@ -10,7 +10,7 @@ use crate::body::{Body, Material, Walls};
 use crate::contact::Penetration;
 use crate::geometry::{Aabb, Vec2};
 use crate::settings::{Model, Settings};
-use crate::shape::{HalfPlane, ShapeError, Superellipse};
+use crate::shape::{Boundary, ShapeError, Superellipse};
 
 /// The most a falling grain may move in one step, as a fraction of the smallest semi-axis of
 /// the scene: two such grains closing on each other then move together by at most one smallest
@@ -290,32 +290,45 @@ pub fn check_mass(material: &Material, shape: &Superellipse) -> Result<(), Strin
     ))
 }
 
-/// Refuses `[[plane]]` number `k` (from 1) where it covers the places grains appear. By the
-/// queue rule a grain appears with its centre on the line `y = top` between the walls: the plane
-/// must keep its solid side at least `largest` (the largest bounding radius) from that line, or
-/// grains may appear inside it. By the fair rule a place inside the plane is taken and another
-/// is offered in the band under the top: the plane must leave a place free for the smallest
-/// grain, whose band is the shallowest ([`BAND_IN_RADII`] of `smallest`, its bounding radius).
-/// A grain is surely in the plane when its centre is nearer than `thinnest` (the smallest
-/// semi-axis) over `sqrt(2)`: every grain reaches that far in every direction (it holds the
-/// diamond of its spikes' tips).
-pub fn check_plane(
-    plane: &HalfPlane,
-    k: usize,
+/// Refuses a boundary (named `name`) that leaves grains no place to appear. By the queue's rule
+/// grains appear on the line `y = top` between the walls and wait until their place is free:
+/// a boundary must keep its solid at least `largest` (the largest bounding radius) from that
+/// line, or grains may wait inside it for ever. By the fair rule a place inside a boundary is
+/// taken and another is offered in the band under the top: the boundary must leave a place
+/// free for the smallest grain, whose band is the shallowest ([`BAND_IN_RADII`] of `smallest`,
+/// its bounding radius). A grain is surely in the boundary when its centre is nearer than
+/// `thinnest` (the smallest semi-axis) over `sqrt(2)`: every grain reaches that far in every
+/// direction (it holds the diamond of its spikes' tips). The boundary's distance is bounded
+/// over the line or band by its enclosure, exact for planes and segments.
+pub fn check_boundary(
+    boundary: &Boundary,
+    name: &str,
     walls: &Walls,
     top: f64,
     rule: SpawnRule,
     [smallest, largest]: [f64; 2],
     thinnest: f64,
 ) -> Result<(), String> {
-    let g = |x: f64, y: f64| plane.value(Vec2::new(x, y));
     let (left, right) = (walls.left, walls.right);
+    let over = |low: f64| {
+        let band = Aabb::new(Vec2::new(left, low), Vec2::new(right, top));
+        match boundary.as_plane() {
+            // `g` is linear: its extremes over the band are at corners.
+            Some(plane) => {
+                let v = band.corners().map(|q| plane.value(q));
+                (
+                    v.iter().copied().fold(f64::INFINITY, f64::min),
+                    v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                )
+            }
+            None => boundary.enclose(&band),
+        }
+    };
     match rule {
         SpawnRule::Queue => {
-            let nearest = g(left, top).min(g(right, top));
-            if nearest < largest {
+            if over(top).0 < largest {
                 return Err(format!(
-                    "plane {k} reaches within a grain's bounding radius ({}) of the line y = {} \
+                    "{name} reaches within a grain's bounding radius ({}) of the line y = {} \
                      between the walls, where grains appear by [spawn] rule = \"queue\": they \
                      would appear inside it; keep it lower, or use rule = \"fair\"",
                     short(largest),
@@ -325,14 +338,9 @@ pub fn check_plane(
         }
         SpawnRule::Fair => {
             let low = (top - BAND_IN_RADII * smallest).max(walls.floor);
-            // `g` is linear: its largest value over the band is at a corner.
-            let farthest = g(left, low)
-                .max(g(right, low))
-                .max(g(left, top))
-                .max(g(right, top));
-            if farthest < thinnest * std::f64::consts::FRAC_1_SQRT_2 {
+            if over(low).1 < thinnest * std::f64::consts::FRAC_1_SQRT_2 {
                 return Err(format!(
-                    "plane {k} covers every place where grains appear (the band from y = {} to \
+                    "{name} covers every place where grains appear (the band from y = {} to \
                      top = {} between the walls): no grain would ever appear; keep it lower",
                     short(low),
                     short(top)

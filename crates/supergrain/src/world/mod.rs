@@ -20,7 +20,7 @@ use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
 use crate::measure::series::Series;
 use crate::settings::{Model, Settings};
-use crate::shape::{HalfPlane, Pose};
+use crate::shape::{Boundary, Pose};
 use crate::solver::soft::{self, SoftWorkspace};
 use crate::solver::{self, StepStats, Stopped, Workspace};
 
@@ -40,9 +40,10 @@ pub struct World {
     /// [`Material`]).
     pub materials: Vec<Material>,
     pub wall_material: Material,
-    /// Walls at any angle besides the box's three (inclined planes), of the wall material;
-    /// the soft step's (the paper's projection has the box alone).
-    pub planes: Vec<HalfPlane>,
+    /// Boundaries besides the box's three walls (planes at any angle, thick segments, arcs,
+    /// drums; a polyline is one per segment), of the wall material; the soft step's (the
+    /// paper's projection has the box alone).
+    pub boundaries: Vec<Boundary>,
     /// The soft step's contacts kept from step to step, and its buffers.
     pub soft: SoftWorkspace,
     /// The id the next body to join gets ([`BodyId`]: never given twice).
@@ -82,7 +83,7 @@ impl World {
             pending: Queue::new(scene),
             materials: scene.groups.iter().map(|g| g.material).collect(),
             wall_material: scene.wall_material,
-            planes: scene.planes.clone(),
+            boundaries: scene.boundaries.clone(),
             soft: SoftWorkspace::default(),
             next_id: BodyId(0),
             sinks: scene.sinks.clone(),
@@ -128,7 +129,7 @@ impl World {
             pending,
             materials: Vec::new(),
             wall_material: Material::default(),
-            planes: Vec::new(),
+            boundaries: Vec::new(),
             soft: SoftWorkspace::default(),
             next_id,
             sinks: Vec::new(),
@@ -267,7 +268,7 @@ impl World {
             Model::Soft => soft::step_or_stop(
                 &mut self.bodies,
                 &self.walls,
-                &self.planes,
+                &self.boundaries,
                 &self.materials,
                 &self.wall_material,
                 &self.settings,
@@ -341,12 +342,12 @@ impl World {
     /// placed under the top (the fair rule's band) comes with the speed of a fall from the top,
     /// as LAMMPS's `fix pour` gives it: the flow below the top is the same whatever the height
     /// a grain was placed at, and none is placed at rest under a grain falling onto it. Under
-    /// the fair rule a place inside a `[[plane]]` is taken too.
+    /// the fair rule a place inside a boundary is taken too.
     fn spawn(&mut self) {
         // The grains' boxes, made once and only when a grain is due.
         let mut boxes: Option<Vec<Aabb>> = None;
-        let (bodies, settings, planes, top) =
-            (&mut self.bodies, &self.settings, &self.planes, self.top);
+        let (bodies, settings, boundaries, top) =
+            (&mut self.bodies, &self.settings, &self.boundaries, self.top);
         let fair = self.pending.rule() == SpawnRule::Fair;
         let place = |p: &Pending, at: Vec2| {
             let mut body = Body {
@@ -366,7 +367,7 @@ impl World {
                 boxes.get_or_insert_with(|| bodies.iter().map(Body::bounding_box).collect());
             if overlaps_any(settings, bodies, boxes, &body, &bb)
                 || (fair
-                    && planes
+                    && boundaries
                         .iter()
                         .any(|w| body.wall_contact(w, &settings.narrow()).overlap()))
             {
@@ -577,7 +578,8 @@ impl World {
     /// each grain `i` in turn, its contacts with the grains `j > i`, in increasing `j`, then with
     /// the walls. Pairs come from a grid, so this takes time linear in the number of grains.
     pub fn contacts(&self, mut f: impl FnMut(Touch)) {
-        let walls = self.walls.half_planes();
+        let mut walls = self.walls.boundaries().to_vec();
+        walls.extend_from_slice(&self.boundaries);
         let narrow = self.settings.narrow();
         let boxes: Vec<Aabb> = self.bodies.iter().map(Body::bounding_box).collect();
         let mut grid = Grid::new();
@@ -698,7 +700,7 @@ fn overlaps_any(
 pub enum MaterialOf {
     /// A scene group's, by [`Body::group`].
     Group(u32),
-    /// The walls' (the box's and the planes').
+    /// The walls' (the box's and the boundaries').
     Walls,
 }
 

@@ -16,7 +16,7 @@ use crate::contact::NarrowPhase;
 use crate::geometry::{Aabb, Vec2};
 use crate::measure::series::{Series, SeriesKind};
 use crate::settings::{Model, Rotation, Settings, SoftSettings};
-use crate::shape::{HalfPlane, Pose, ShapeError, Superellipse};
+use crate::shape::{Boundary, BoundarySpec, HalfPlane, Pose, ShapeError, Superellipse};
 use crate::subdivision::{MAX_DEPTH, Precision};
 
 /// A closed range `[lo, hi]` of values drawn uniformly, or one fixed value (`lo == hi`).
@@ -120,9 +120,11 @@ pub struct Scene {
     pub groups: Vec<Group>,
     /// What the walls are made of (the soft step's).
     pub wall_material: Material,
-    /// Walls at any angle besides the box's (`[[plane]]`; the soft step's), of the walls'
-    /// material.
-    pub planes: Vec<HalfPlane>,
+    /// Boundaries besides the box's walls (`[[plane]]`, then `[[boundary]]`, a polyline one per
+    /// segment; the soft step's), of the walls' material.
+    pub boundaries: Vec<Boundary>,
+    /// Each boundary's name in messages: `plane 2`, `boundary 3`, `boundary 4, segment 2`.
+    pub boundary_names: Vec<String>,
     /// Grains placed by the file (`[[grain]]`), there from step 0, before any of the groups'.
     pub grains: Vec<Placed>,
     /// Where grains leave (`[[sink]]`).
@@ -263,7 +265,8 @@ impl Scene {
             sinks: Vec::new(),
             measures: Vec::new(),
             wall_material: Material::default(),
-            planes: Vec::new(),
+            boundaries: Vec::new(),
+            boundary_names: Vec::new(),
         })
     }
 
@@ -509,7 +512,7 @@ impl Scene {
         settings.strip_width = s
             .strip_width
             .map_or_else(|| auto_strip_width(&groups), |v| v.0);
-        let mut planes = Vec::new();
+        let (mut boundaries, mut boundary_names) = (Vec::new(), Vec::new());
         for (k, p) in file.planes.iter().enumerate() {
             let spec = p.get_ref();
             let vector = |key: &str, v: &toml::Spanned<Vec<Finite>>| match v.get_ref()[..] {
@@ -527,23 +530,49 @@ impl Scene {
             let at = vector("point", &spec.point)?;
             let plane = HalfPlane::new(n, n.dot(at))
                 .map_err(|e| invalid(spec.normal.span(), format!("plane {}: {e}", k + 1)))?;
-            planes.push(plane);
+            boundaries.push(Boundary::Plane(plane));
+            boundary_names.push(format!("plane {}", k + 1));
         }
-        if !planes.is_empty() && settings.model != Model::Soft {
+        for (k, spec) in file.boundaries.iter().enumerate() {
+            let pieces = spec
+                .get_ref()
+                .pieces()
+                .map_err(|e| invalid(spec.span(), format!("boundary {}: {e}", k + 1)))?;
+            let several = pieces.len() > 1;
+            for (j, piece) in pieces.into_iter().enumerate() {
+                boundaries.push(piece);
+                boundary_names.push(if several {
+                    format!("boundary {}, segment {}", k + 1, j + 1)
+                } else {
+                    format!("boundary {}", k + 1)
+                });
+            }
+        }
+        let first = file
+            .planes
+            .first()
+            .map(|p| (p.span(), "[[plane]]"))
+            .or_else(|| file.boundaries.first().map(|b| (b.span(), "[[boundary]]")));
+        if let Some((span, table)) = first.clone()
+            && settings.model != Model::Soft
+        {
             return Err(invalid(
-                file.planes[0].span(),
-                "[[plane]] needs [solver] model = \"soft\" (the paper's projection has the box \
-                 alone)"
-                    .into(),
+                span,
+                format!(
+                    "{table} needs [solver] model = \"soft\" (the paper's projection has the \
+                     box alone)"
+                ),
             ));
         }
-        if planes.len() + 3 > crate::solver::soft::MAX_WALLS {
+        if let Some((span, _)) = first
+            && boundaries.len() + 3 > crate::solver::soft::MAX_WALLS
+        {
             return Err(invalid(
-                file.planes[0].span(),
+                span,
                 format!(
-                    "at most {} planes, got {}",
+                    "at most {} boundaries (a polyline's segments each count), got {}",
                     crate::solver::soft::MAX_WALLS - 3,
-                    planes.len()
+                    boundaries.len()
                 ),
             ));
         }
@@ -707,7 +736,8 @@ impl Scene {
             settings,
             groups,
             wall_material: b.material_spec().material(),
-            planes,
+            boundaries,
+            boundary_names,
             grains,
             sinks,
             measures,
@@ -809,12 +839,12 @@ impl Scene {
                     checks::short(self.walls.floor),
                 )));
             }
-            if let Some(p) = self.planes.iter().position(|w| {
+            if let Some(p) = self.boundaries.iter().position(|w| {
                 body.wall_contact(w, &narrow)
                     .penetration
                     .is_some_and(|p| p.push.norm() > PLACED_TOLERANCE * thin)
             }) {
-                return Err(error(format!("lies in plane {}", p + 1)));
+                return Err(error(format!("lies in {}", self.boundary_names[p])));
             }
             if let Some(j) = placed[..k].iter().zip(&boxes).position(|(o, ob)| {
                 // Fixed grains may overlap each other (the joint of a hopper's sides): they
@@ -865,9 +895,9 @@ impl Scene {
             checks::check_time_step(&self.settings, self.top - self.walls.floor, smallest)
                 .map_err(SceneError::Unworkable)?;
             checks::check_eps(&self.settings, smallest).map_err(SceneError::Unworkable)?;
-            for (k, plane) in self.planes.iter().enumerate() {
+            for (boundary, name) in self.boundaries.iter().zip(&self.boundary_names) {
                 let (walls, rule) = (&self.walls, self.spawn_rule);
-                checks::check_plane(plane, k + 1, walls, self.top, rule, radii, smallest)
+                checks::check_boundary(boundary, name, walls, self.top, rule, radii, smallest)
                     .map_err(SceneError::Unworkable)?;
             }
         }
@@ -905,6 +935,8 @@ struct SceneFile {
     groups: Vec<GroupSpec>,
     #[serde(rename = "plane", default)]
     planes: Vec<toml::Spanned<PlaneSpec>>,
+    #[serde(rename = "boundary", default)]
+    boundaries: Vec<toml::Spanned<BoundarySpec>>,
     #[serde(rename = "grain", default)]
     grains: Vec<toml::Spanned<GrainSpec>>,
     #[serde(rename = "sink", default)]
