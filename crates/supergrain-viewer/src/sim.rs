@@ -239,7 +239,8 @@ impl Sim {
             settings: world.settings,
             groups: Vec::new(),
             wall_material: world.wall_material,
-            boundaries: world.boundaries.clone(),
+            boundaries: world.bases.clone(),
+            drives: world.drives.clone(),
             boundary_names: (1..=world.boundaries.len())
                 .map(|k| format!("boundary {k}"))
                 .collect(),

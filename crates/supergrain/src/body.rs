@@ -6,7 +6,7 @@
 use crate::contact::{Contact, Narrow, WallContact};
 use crate::geometry::{Aabb, Vec2};
 use crate::settings::Settings;
-use crate::shape::{Boundary, HalfPlane, Pose, Superellipse};
+use crate::shape::{Boundary, BoundarySpec, HalfPlane, Pose, ShakeSpec, Superellipse, TurnSpec};
 
 /// A body's name for as long as the world lives: given in the order bodies join it (the first
 /// grain to appear is 0), never given again when a body leaves, kept in dumps. Trajectories,
@@ -260,4 +260,136 @@ pub(crate) fn mix(a: &Material, b: &Material) -> (f64, f64, f64) {
         a.restitution.max(b.restitution),
         a.rolling_resistance.max(b.rolling_resistance),
     )
+}
+
+/// How a wall moves over a step (issue 41's driven boundaries): the velocity of its point `p`
+/// is `v + w x (p - pivot)`, `pivot` where it is at the step's end. A still wall's is zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct WallMotion {
+    pub v: Vec2,
+    pub w: f64,
+    pub pivot: Vec2,
+}
+
+impl WallMotion {
+    /// Whether it moves at all.
+    pub fn moves(&self) -> bool {
+        self.v != Vec2::ZERO || self.w != 0.0
+    }
+}
+
+/// How a boundary is driven (issue 41): turned about a point at a rate (a drum, a tumbler),
+/// shaken along a line (a vibrated floor), its surface moving along it (a conveyor belt), or
+/// any of these together; none: still. Its place at time `t` is a closed form of its place at
+/// `t = 0` ([`Drive::place`]), so a run resumed from a dump at step `k` puts it where the
+/// uninterrupted run has it, bit for bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Drive {
+    /// About `.0`, at `.1` degrees per second, counter-clockwise.
+    pub turn: Option<(Vec2, f64)>,
+    /// Displaced by `.0 sin(2 pi .1 t)` (`.1` in hertz).
+    pub shake: Option<(Vec2, f64)>,
+    /// The surface's speed along it (from a segment's first end to its second; counter-clockwise
+    /// round an arc or a circle); the shape does not move for it.
+    pub belt: f64,
+}
+
+impl Drive {
+    /// From a `[[boundary]]` table's `turn`, `shake` and `belt`, checked.
+    pub fn from_spec(spec: &BoundarySpec) -> Result<Drive, String> {
+        let two = |what: &str, v: &[f64]| match v {
+            [x, y] if x.is_finite() && y.is_finite() => Ok(Vec2::new(*x, *y)),
+            _ => Err(format!("{what} needs two finite numbers [x, y], got {v:?}")),
+        };
+        let turn = match &spec.turn {
+            Some(t) if t.rate.is_finite() => Some((two("turn's about", &t.about)?, t.rate)),
+            Some(t) => return Err(format!("turn's rate must be finite, got {}", t.rate)),
+            None => None,
+        };
+        let shake = match &spec.shake {
+            Some(s) if s.frequency.is_finite() && s.frequency >= 0.0 => {
+                Some((two("shake's amplitude", &s.amplitude)?, s.frequency))
+            }
+            Some(s) => {
+                return Err(format!(
+                    "shake's frequency must be a finite number >= 0, got {}",
+                    s.frequency
+                ));
+            }
+            None => None,
+        };
+        let belt = spec.belt.unwrap_or(0.0);
+        if !belt.is_finite() {
+            return Err(format!("belt must be a finite speed, got {belt}"));
+        }
+        Ok(Drive { turn, shake, belt })
+    }
+
+    /// Writes its keys into a boundary's table.
+    pub fn write(&self, spec: &mut BoundarySpec) {
+        spec.turn = self.turn.map(|(about, rate)| TurnSpec {
+            about: vec![about.x, about.y],
+            rate,
+        });
+        spec.shake = self.shake.map(|(amplitude, frequency)| ShakeSpec {
+            amplitude: vec![amplitude.x, amplitude.y],
+            frequency,
+        });
+        spec.belt = (self.belt != 0.0).then_some(self.belt);
+    }
+
+    pub fn is_still(&self) -> bool {
+        self.turn.is_none() && self.shake.is_none() && self.belt == 0.0
+    }
+
+    /// The shake's displacement at time `t`.
+    fn offset(&self, t: f64) -> Vec2 {
+        match self.shake {
+            Some((a, f)) => a * (std::f64::consts::TAU * f * t).sin(),
+            None => Vec2::ZERO,
+        }
+    }
+
+    /// Where `base` (its place at `t = 0`) is at time `t`: turned about the pivot, then
+    /// shaken. Unmoved (the same bits) when neither.
+    pub fn place(&self, base: &Boundary, t: f64) -> Boundary {
+        if self.turn.is_none() && self.shake.is_none() {
+            return *base;
+        }
+        let (pivot, angle) = self
+            .turn
+            .map_or((Vec2::ZERO, 0.0), |(p, rate)| (p, (rate * t).to_radians()));
+        base.moved(pivot, angle, self.offset(t))
+    }
+
+    /// Its motion over the step from `t` to `t + h`, for the solver: the shake's mean velocity
+    /// (so that the substeps end where [`Self::place`] puts it), the turn's rate, and the
+    /// belt's speed as a velocity of the surface ([`WallMotion`], about the pivot at `t + h`).
+    pub fn motion(&self, base: &Boundary, t: f64, h: f64) -> WallMotion {
+        if self.is_still() {
+            return WallMotion::default();
+        }
+        let now = self.place(base, t + h);
+        let mut v = (self.offset(t + h) - self.offset(t)) * (1.0 / h);
+        let mut w = self.turn.map_or(0.0, |(_, rate)| rate.to_radians());
+        let pivot = self.turn.map_or(Vec2::ZERO, |(p, _)| p) + self.offset(t + h);
+        match now {
+            Boundary::Segment { a, b, .. } => {
+                v += (b - a).direction().unwrap_or(Vec2::ZERO) * self.belt;
+            }
+            Boundary::Arc { center, r, .. } | Boundary::Circle { center, r, .. } => {
+                // A surface speed round a circle is a turn about its centre:
+                // (belt / r) x (p - centre) = (belt / r) x (p - pivot) + (belt / r) x (pivot - centre).
+                let spin = self.belt / r;
+                w += spin;
+                let d = pivot - center;
+                v += Vec2::new(-spin * d.y, spin * d.x);
+            }
+            Boundary::Plane(plane) => {
+                let n = plane.normal();
+                v += Vec2::new(n.y, -n.x) * self.belt;
+            }
+        }
+        WallMotion { v, w, pivot }
+    }
 }

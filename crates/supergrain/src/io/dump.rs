@@ -7,7 +7,7 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
-use crate::body::{Body, BodyId, BodyKind, Material, Walls, material_of};
+use crate::body::{Body, BodyId, BodyKind, Drive, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
@@ -484,7 +484,17 @@ impl Dump {
             },
             wall_material: (s.model == Model::Soft).then(|| (&world.wall_material).into()),
             planes: Vec::new(),
-            boundaries: world.boundaries.iter().map(BoundarySpec::of).collect(),
+            // Each at step 0, with its drive: where it is now follows from the step.
+            boundaries: world
+                .bases
+                .iter()
+                .zip(&world.drives)
+                .map(|(b, d)| {
+                    let mut spec = BoundarySpec::of(b);
+                    d.write(&mut spec);
+                    spec
+                })
+                .collect(),
             contacts: if s.model == Model::Soft {
                 kept_contacts(world)
             } else {
@@ -908,14 +918,20 @@ impl Dump {
         for (k, p) in self.planes.iter().enumerate() {
             let plane = HalfPlane::new(Vec2::from(p.normal), p.offset)
                 .map_err(|e| DumpError::Walls(format!("planes[{k}]: {e}")))?;
-            boundaries.push((format!("planes[{k}]"), Boundary::Plane(plane)));
+            boundaries.push((
+                format!("planes[{k}]"),
+                Boundary::Plane(plane),
+                Drive::default(),
+            ));
         }
         for (k, spec) in self.boundaries.iter().enumerate() {
             let name = format!("boundaries[{k}]");
             let pieces = spec
                 .pieces()
                 .map_err(|e| DumpError::Walls(format!("{name}: {e}")))?;
-            boundaries.extend(pieces.into_iter().map(|b| (name.clone(), b)));
+            let drive =
+                Drive::from_spec(spec).map_err(|e| DumpError::Walls(format!("{name}: {e}")))?;
+            boundaries.extend(pieces.into_iter().map(|b| (name.clone(), b, drive)));
         }
         if boundaries.len() + 3 > MAX_WALLS {
             return Err(DumpError::Walls(format!(
@@ -924,7 +940,7 @@ impl Dump {
                 boundaries.len()
             )));
         }
-        for (name, boundary) in boundaries {
+        for (name, boundary, drive) in boundaries {
             if !world.pending.is_empty() {
                 let radii = [
                     world.pending.smallest_bounding_radius(),
@@ -934,8 +950,11 @@ impl Dump {
                 checks::check_boundary(&boundary, &name, &world.walls, top, rule, radii, thinnest)
                     .map_err(DumpError::Walls)?;
             }
+            world.bases.push(boundary);
+            world.drives.push(drive);
             world.boundaries.push(boundary);
         }
+        world.place_boundaries();
         for (k, m) in self.measures.iter().enumerate() {
             if m.every == 0 {
                 return Err(DumpError::Unworkable(format!(

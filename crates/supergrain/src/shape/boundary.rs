@@ -434,6 +434,50 @@ impl Boundary {
         }
     }
 
+    /// Turned by `angle` (radians, counter-clockwise) about `pivot`, then moved by `shift`.
+    pub fn moved(&self, pivot: Vec2, angle: f64, shift: Vec2) -> Boundary {
+        let r = crate::geometry::Rotation::new(angle);
+        let at = |p: Vec2| pivot + r.apply(p - pivot) + shift;
+        match *self {
+            Boundary::Plane(w) => {
+                let n = r.apply(w.normal());
+                let on = at(w.normal() * w.offset());
+                // A unit normal turned stays one within rounding, which `new` divides out.
+                Boundary::Plane(HalfPlane::new(n, n.dot(on)).unwrap_or(w))
+            }
+            Boundary::Segment { a, b, radius } => Boundary::Segment {
+                a: at(a),
+                b: at(b),
+                radius,
+            },
+            Boundary::Arc {
+                center,
+                r: big,
+                from,
+                sweep,
+                radius,
+            } => {
+                let from = (from + angle.to_degrees()).rem_euclid(360.0);
+                Boundary::Arc {
+                    center: at(center),
+                    r: big,
+                    from: if from >= 360.0 { 0.0 } else { from },
+                    sweep,
+                    radius,
+                }
+            }
+            Boundary::Circle {
+                center,
+                r: big,
+                inside,
+            } => Boundary::Circle {
+                center: at(center),
+                r: big,
+                inside,
+            },
+        }
+    }
+
     /// A thick segment's or arc's half-thickness (how deep its middle line is).
     pub fn half_thickness(&self) -> Option<f64> {
         match *self {
@@ -502,6 +546,31 @@ pub struct BoundarySpec {
     pub inside: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub thickness: Option<f64>,
+    /// Driven: turned about a point (see `crate::body::Drive`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turn: Option<TurnSpec>,
+    /// Driven: shaken along a line.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shake: Option<ShakeSpec>,
+    /// Driven: its surface moving along it at this speed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub belt: Option<f64>,
+}
+
+/// A turn: about the point `about`, at `rate` degrees per second (counter-clockwise).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TurnSpec {
+    pub about: Vec<f64>,
+    pub rate: f64,
+}
+
+/// A shake: displaced by `amplitude sin(2 pi frequency t)`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShakeSpec {
+    pub amplitude: Vec<f64>,
+    pub frequency: f64,
 }
 
 /// A half-plane: the line through `point` (or at `offset` along the normal) across `normal`,

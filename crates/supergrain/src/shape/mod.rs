@@ -8,7 +8,7 @@ mod half_plane;
 mod pose;
 mod superellipse;
 
-pub use boundary::{ArcSpec, Boundary, BoundarySpec, CircleSpec, PlaneSpec};
+pub use boundary::{ArcSpec, Boundary, BoundarySpec, CircleSpec, PlaneSpec, ShakeSpec, TurnSpec};
 pub use half_plane::HalfPlane;
 pub use pose::Pose;
 pub use superellipse::{EXPONENT_RANGE, SEMI_AXIS_RANGE, Superellipse};

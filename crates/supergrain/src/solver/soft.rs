@@ -38,7 +38,7 @@ use rayon::prelude::*;
 
 use super::carry::Carried;
 use super::{StepStats, Stopped};
-use crate::body::{Body, Material, Walls, material_of, mix};
+use crate::body::{Body, Material, WallMotion, Walls, material_of, mix};
 use crate::broad_phase::Near;
 use crate::contact::manifold::{Manifold, ManifoldPoint, grain_manifold, wall_manifold};
 use crate::contact::{NarrowPhase, WarmStart};
@@ -185,6 +185,8 @@ impl Point {
 struct Constraint {
     a: usize,
     b: usize,
+    /// The record of side A in [`State::solids`]: grain `a`'s, or its wall's for [`STATIC`].
+    slot_a: usize,
     key: PairKey,
     normal: Vec2,
     friction: f64,
@@ -253,6 +255,8 @@ pub struct SoftWorkspace {
     start: Vec<(Vec2, f64)>,
     solids: Vec<Solid>,
     walls: Vec<Boundary>,
+    /// Each wall's motion this step (the box's three first).
+    motions: Vec<WallMotion>,
     /// Whether each grain is awake this step, and its inverse masses as the solver sees them
     /// (a sleeper's are 0: it holds its neighbours as a wall does).
     awake: Vec<bool>,
@@ -336,6 +340,7 @@ pub fn step_or_stop(
     bodies: &mut [Body],
     walls: &Walls,
     boundaries: &[Boundary],
+    motions: &[WallMotion],
     materials: &[Material],
     wall: &Material,
     settings: &Settings,
@@ -347,6 +352,7 @@ pub fn step_or_stop(
     let n = soft.substeps.max(1);
     let hs = h / f64::from(n);
     let material = |b: &Body| material_of(materials, b.group);
+    wake_at_moving_walls(bodies, boundaries, motions);
     masses(bodies, &material, work);
     let sleeps = settings.sleep_radius > 0.0;
     work.awake.clear();
@@ -364,6 +370,11 @@ pub fn step_or_stop(
     all.clear();
     all.extend(walls.boundaries());
     all.extend_from_slice(boundaries);
+    // The box's walls are still; the boundaries move as `motions` says (still where it ends).
+    work.motions.clear();
+    work.motions.resize(3, WallMotion::default());
+    work.motions.extend_from_slice(motions);
+    work.motions.resize(all.len(), WallMotion::default());
     let found = find_contacts(bodies, &all, settings, work, stop);
     work.walls = all;
     let mut stats = found?;
@@ -391,16 +402,22 @@ pub fn step_or_stop(
         inv_inertia: i,
         ..Solid::WALL
     }));
-    solids.push(Solid::WALL);
+    // One record per wall, after the grains': its motion, no mass.
+    solids.extend(work.motions.iter().map(|m| Solid {
+        v: m.v,
+        w: m.w,
+        ..Solid::WALL
+    }));
+    let moving: Vec<usize> = (0..work.motions.len())
+        .filter(|&k| work.motions[k].moves())
+        .map(|k| bodies.len() + k)
+        .collect();
     let (lin, ang) = (
         1.0 / (1.0 + hs * soft.linear_damping),
         1.0 / (1.0 + hs * soft.angular_damping),
     );
-    let mut state = State {
-        wall: bodies.len(),
-        solids,
-    };
-    for _ in 0..n {
+    let mut state = State { solids };
+    for substep in 0..n {
         if stop.load(Ordering::Relaxed) {
             return Err(Stopped);
         }
@@ -422,6 +439,13 @@ pub fn step_or_stop(
             s.shift = b.center - start[i].0;
             s.turn = Rotation::new(b.angle - start[i].1);
         }
+        // A moving wall's motion since the step's start, at its own velocity.
+        let elapsed = hs * f64::from(substep + 1);
+        for &k in &moving {
+            let s = &mut state.solids[k];
+            s.shift = s.v * elapsed;
+            s.turn = Rotation::new(s.w * elapsed);
+        }
         batches.solve(constraints, &mut state, hs, soft, false);
     }
     batches.write_back(constraints);
@@ -442,6 +466,21 @@ pub fn step_or_stop(
     forces(bodies, hs, work);
     keep(work);
     Ok(stats)
+}
+
+/// Grains within reach of a moving wall do not sleep: a sleeper holds still as a wall does, and
+/// a moving wall would go through it.
+fn wake_at_moving_walls(bodies: &mut [Body], boundaries: &[Boundary], motions: &[WallMotion]) {
+    for (wall, m) in boundaries.iter().zip(motions) {
+        if !m.moves() {
+            continue;
+        }
+        for b in bodies.iter_mut().filter(|b| !b.is_static()) {
+            if wall.distance(b.center) < b.shape.bounding_radius() + 2.0 * SPECULATIVE {
+                b.calm = 0;
+            }
+        }
+    }
 }
 
 /// The inverse masses of grains not seen before (grains only ever join the end of the list).
@@ -494,17 +533,17 @@ impl Solid {
     };
 }
 
-/// The grains' velocities and motion during the substeps: `solids[wall]` is the walls'.
+/// The grains' velocities and motion during the substeps: from `solids[wall]` on, the walls'.
 struct State<'a> {
-    wall: usize,
     solids: &'a mut [Solid],
 }
 
 impl State<'_> {
-    /// The record of grain `i`, or the walls' for [`STATIC`].
+    /// The record `i`: a grain's, or a wall's past them ([`Constraint::slot_a`]).
     #[inline(always)]
     fn slot(&self, i: usize) -> usize {
-        i.min(self.wall)
+        debug_assert!(i < self.solids.len(), "record {i} of {}", self.solids.len());
+        i
     }
 
     #[inline(always)]
@@ -543,7 +582,7 @@ fn spin(w: f64, r: Vec2) -> Vec2 {
 
 /// The relative velocity of B's point to A's.
 fn relative(s: &State, c: &Constraint, p: &Point) -> Vec2 {
-    let (va, wa) = s.velocity(c.a);
+    let (va, wa) = s.velocity(c.slot_a);
     let (vb, wb) = s.velocity(c.b);
     (vb + spin(wb, p.rb)) - (va + spin(wa, p.ra))
 }
@@ -700,11 +739,13 @@ fn find_contacts(
                 predicted,
                 turns,
                 settings.soft.slop,
+                &work.motions,
+                h,
             ));
         }
     }
     let wall_boxes: Vec<Aabb> = walls.iter().map(Boundary::bounding_box).collect();
-    let (awake, boxes) = (&work.awake, &work.boxes);
+    let (awake, boxes, motions) = (&work.awake, &work.boxes, &work.motions);
     // Each awake grain against each wall whose box it meets, on all cores, collected in the
     // order of the grains and walls.
     let at_walls: Vec<(usize, Vec<Constraint>)> = (0..bodies.len())
@@ -743,6 +784,8 @@ fn find_contacts(
                         predicted,
                         turns,
                         settings.soft.slop,
+                        motions,
+                        h,
                     ));
                 }
             }
@@ -774,19 +817,30 @@ fn anchored(
     predicted: &[Pose],
     turns: &[Rotation],
     slop: f64,
+    motions: &[WallMotion],
+    step: f64,
 ) -> Constraint {
     let star = |i: usize| i != STATIC && bodies[i].shape.is_star();
+    // A wall's motion (zero for a still one, whose points keep no lever and do not move).
+    let wall = (a == STATIC).then(|| motions[STATIC - key.1]);
     let lever = |i: usize, c: Vec2| {
         if i == STATIC {
-            Vec2::ZERO
+            match wall {
+                Some(m) if m.moves() => c - m.pivot,
+                _ => Vec2::ZERO,
+            }
         } else {
             c - predicted[i].center()
         }
     };
-    // How far the point at offset `r` moves from the start to the predicted pose.
+    // How far the point at offset `r` moves from the start to the predicted pose (a moving
+    // wall's, over the step at its velocity).
     let moved = |i: usize, r: Vec2| {
         if i == STATIC {
-            Vec2::ZERO
+            match wall {
+                Some(m) if m.moves() => m.v * step + Rotation::new(m.w * step).apply(r) - r,
+                _ => Vec2::ZERO,
+            }
         } else {
             predicted[i].center() - bodies[i].center + turns[i].apply(r) - r
         }
@@ -803,6 +857,10 @@ fn anchored(
     Constraint {
         a,
         b,
+        slot_a: match wall {
+            Some(_) => bodies.len() + (STATIC - key.1),
+            None => a,
+        },
         key,
         normal: m.normal,
         friction: 0.0,
@@ -843,9 +901,11 @@ fn prepare(
     let inv = |i: usize| {
         if i == STATIC { (0.0, 0.0) } else { inverse[i] }
     };
-    let vel = |i: usize| {
+    let motions = &work.motions;
+    let vel = |c: &Constraint, i: usize| {
         if i == STATIC {
-            (Vec2::ZERO, 0.0)
+            let m = motions[STATIC - c.key.1];
+            (m.v, m.w)
         } else {
             (bodies[i].velocity, bodies[i].angular_velocity)
         }
@@ -867,7 +927,7 @@ fn prepare(
         let ((ma, ia), (mb, ib)) = (inv(c.a), inv(c.b));
         let (n, t) = (c.normal, Vec2::new(c.normal.y, -c.normal.x));
         let kept = work.kept.get(&c.key).copied().unwrap_or_default();
-        let ((va, wa), (vb, wb)) = (vel(c.a), vel(c.b));
+        let ((va, wa), (vb, wb)) = (vel(c, c.a), vel(c, c.b));
         let mut lever = 0.0;
         for p in &mut c.points[..c.len] {
             let k = |d: Vec2| {
@@ -898,7 +958,7 @@ fn prepare(
 
 /// The current separation of a point: its start value moved by the bodies' motion since.
 fn separation(s: &State, c: &Constraint, p: &Point) -> f64 {
-    p.base + c.normal.dot(s.moved(c.b, p.rb) - s.moved(c.a, p.ra))
+    p.base + c.normal.dot(s.moved(c.b, p.rb) - s.moved(c.slot_a, p.ra))
 }
 
 /// Applies the impulses one contact accumulated so far (from the last step, then the last
@@ -907,10 +967,10 @@ fn warm_one(c: &Constraint, s: &mut State) {
     let t = Vec2::new(c.normal.y, -c.normal.x);
     for p in &c.points[..c.len] {
         let impulse = c.normal * p.normal_impulse + t * p.tangent_impulse;
-        s.apply(c.a, p.ra, impulse, -1.0);
+        s.apply(c.slot_a, p.ra, impulse, -1.0);
         s.apply(c.b, p.rb, impulse, 1.0);
     }
-    s.apply_angular(c.a, -c.rolling_impulse);
+    s.apply_angular(c.slot_a, -c.rolling_impulse);
     s.apply_angular(c.b, c.rolling_impulse);
 }
 
@@ -950,7 +1010,7 @@ fn solve_one(c: &mut Constraint, s: &mut State, hs: f64, soft: &SoftSettings, bi
         }
         q.normal_impulse = next;
         q.max_normal_impulse = max(q.max_normal_impulse, next);
-        s.apply(c.a, p.ra, n * d, -1.0);
+        s.apply(c.slot_a, p.ra, n * d, -1.0);
         s.apply(c.b, p.rb, n * d, 1.0);
     }
     for k in 0..c.len {
@@ -960,20 +1020,20 @@ fn solve_one(c: &mut Constraint, s: &mut State, hs: f64, soft: &SoftSettings, bi
         let next = clamp(p.tangent_impulse - p.tangent_mass * vt, -most, most);
         let d = next - p.tangent_impulse;
         c.points[k].tangent_impulse = next;
-        s.apply(c.a, p.ra, t * d, -1.0);
+        s.apply(c.slot_a, p.ra, t * d, -1.0);
         s.apply(c.b, p.rb, t * d, 1.0);
     }
     if c.rolling_resistance > 0.0 {
         let total = c.points[..c.len]
             .iter()
             .fold(0.0, |sum, p| sum + p.normal_impulse);
-        let (_, wa) = s.velocity(c.a);
+        let (_, wa) = s.velocity(c.slot_a);
         let (_, wb) = s.velocity(c.b);
         let most = c.rolling_resistance * c.lever * total;
         let old = c.rolling_impulse;
         c.rolling_impulse = clamp(old - c.rolling_mass * (wb - wa), -most, most);
         let d = c.rolling_impulse - old;
-        s.apply_angular(c.a, -d);
+        s.apply_angular(c.slot_a, -d);
         s.apply_angular(c.b, d);
     }
 }
@@ -1013,7 +1073,7 @@ fn restitution(constraints: &mut [Constraint], s: &mut State, soft: &SoftSetting
             let next = (p.normal_impulse + raw).max(0.0);
             let d = next - p.normal_impulse;
             c.points[k].normal_impulse = next;
-            s.apply(c.a, p.ra, n * d, -1.0);
+            s.apply(c.slot_a, p.ra, n * d, -1.0);
             s.apply(c.b, p.rb, n * d, 1.0);
         }
     }
@@ -1267,7 +1327,6 @@ fn forces(bodies: &[Body], hs: f64, work: &mut SoftWorkspace) {
     work.forces = previous;
     // The grains' motion over the step, as the substeps left it in their records.
     let state = State {
-        wall: bodies.len(),
         solids: &mut work.solids,
     };
     for c in &work.constraints {

@@ -14,7 +14,7 @@ pub use scene::{Group, PRESETS, Placed, Range, Scene, SceneError};
 pub use sink::Sink;
 pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
 
-use crate::body::{Body, BodyId, Material, Walls};
+use crate::body::{Body, BodyId, Drive, Material, WallMotion, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
@@ -44,6 +44,10 @@ pub struct World {
     /// drums; a polyline is one per segment), of the wall material; the soft step's (the
     /// paper's projection has the box alone).
     pub boundaries: Vec<Boundary>,
+    /// How each boundary is driven (still for most), and where it was at step 0: where it is
+    /// at any step is a closed form of that ([`Drive::place`]).
+    pub drives: Vec<Drive>,
+    pub bases: Vec<Boundary>,
     /// The soft step's contacts kept from step to step, and its buffers.
     pub soft: SoftWorkspace,
     /// The id the next body to join gets ([`BodyId`]: never given twice).
@@ -84,6 +88,8 @@ impl World {
             materials: scene.groups.iter().map(|g| g.material).collect(),
             wall_material: scene.wall_material,
             boundaries: scene.boundaries.clone(),
+            drives: scene.drives.clone(),
+            bases: scene.boundaries.clone(),
             soft: SoftWorkspace::default(),
             next_id: BodyId(0),
             sinks: scene.sinks.clone(),
@@ -130,6 +136,8 @@ impl World {
             materials: Vec::new(),
             wall_material: Material::default(),
             boundaries: Vec::new(),
+            drives: Vec::new(),
+            bases: Vec::new(),
             soft: SoftWorkspace::default(),
             next_id,
             sinks: Vec::new(),
@@ -243,6 +251,7 @@ impl World {
             std::mem::swap(&mut self.step_start, &mut undo.step_start);
             self.next_id = undo.next_id;
             self.pending.undo(&undo.spawned);
+            self.place_boundaries();
         }
         done
     }
@@ -255,6 +264,10 @@ impl World {
         self.name_new();
         self.step_start.clear();
         self.step_start.extend(self.bodies.iter().map(|b| b.center));
+        let motions = match self.settings.model {
+            Model::Soft => self.motions(),
+            Model::Paper => Vec::new(),
+        };
         let stats = match self.settings.model {
             Model::Paper => solver::step_or_stop(
                 &mut self.bodies,
@@ -269,6 +282,7 @@ impl World {
                 &mut self.bodies,
                 &self.walls,
                 &self.boundaries,
+                &motions,
                 &self.materials,
                 &self.wall_material,
                 &self.settings,
@@ -277,8 +291,49 @@ impl World {
             )?,
         };
         self.step += 1;
+        self.place_boundaries();
         self.drain();
         Ok(stats)
+    }
+
+    /// Each driven boundary's motion over the next step, and its place at the step's end (in
+    /// `boundaries` for the step; [`Self::place_boundaries`] keeps it). Empty when none moves.
+    fn motions(&mut self) -> Vec<WallMotion> {
+        if self.drives.iter().all(Drive::is_still) {
+            return Vec::new();
+        }
+        let (h, t) = (self.settings.step, self.time());
+        for ((now, base), drive) in self
+            .boundaries
+            .iter_mut()
+            .zip(&self.bases)
+            .zip(&self.drives)
+        {
+            *now = drive.place(base, t + h);
+        }
+        self.bases
+            .iter()
+            .zip(&self.drives)
+            .map(|(base, drive)| drive.motion(base, t, h))
+            .collect()
+    }
+
+    /// The boundaries where their drives have them now.
+    pub fn place_boundaries(&mut self) {
+        let t = self.time();
+        for ((now, base), drive) in self
+            .boundaries
+            .iter_mut()
+            .zip(&self.bases)
+            .zip(&self.drives)
+        {
+            *now = drive.place(base, t);
+        }
+    }
+
+    /// The simulated time: steps done times the step.
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.settings.step
     }
 
     /// The grains in a sink leave (the first sink in order that holds a grain's centre counts

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::Sink;
 use super::checks;
 use super::spawn::{BAND_IN_RADII, SpawnRule};
-use crate::body::{Body, BodyKind, Material, Walls, material_of};
+use crate::body::{Body, BodyKind, Drive, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::geometry::{Aabb, Vec2};
@@ -125,6 +125,8 @@ pub struct Scene {
     pub boundaries: Vec<Boundary>,
     /// Each boundary's name in messages: `plane 2`, `boundary 3`, `boundary 4, segment 2`.
     pub boundary_names: Vec<String>,
+    /// How each boundary is driven (`turn`, `shake`, `belt`; still by default).
+    pub drives: Vec<Drive>,
     /// Grains placed by the file (`[[grain]]`), there from step 0, before any of the groups'.
     pub grains: Vec<Placed>,
     /// Where grains leave (`[[sink]]`).
@@ -267,6 +269,7 @@ impl Scene {
             wall_material: Material::default(),
             boundaries: Vec::new(),
             boundary_names: Vec::new(),
+            drives: Vec::new(),
         })
     }
 
@@ -512,7 +515,7 @@ impl Scene {
         settings.strip_width = s
             .strip_width
             .map_or_else(|| auto_strip_width(&groups), |v| v.0);
-        let (mut boundaries, mut boundary_names) = (Vec::new(), Vec::new());
+        let (mut boundaries, mut boundary_names, mut drives) = (Vec::new(), Vec::new(), Vec::new());
         for (k, p) in file.planes.iter().enumerate() {
             let spec = p.get_ref();
             let vector = |key: &str, v: &toml::Spanned<Vec<Finite>>| match v.get_ref()[..] {
@@ -532,15 +535,19 @@ impl Scene {
                 .map_err(|e| invalid(spec.normal.span(), format!("plane {}: {e}", k + 1)))?;
             boundaries.push(Boundary::Plane(plane));
             boundary_names.push(format!("plane {}", k + 1));
+            drives.push(Drive::default());
         }
         for (k, spec) in file.boundaries.iter().enumerate() {
             let pieces = spec
                 .get_ref()
                 .pieces()
                 .map_err(|e| invalid(spec.span(), format!("boundary {}: {e}", k + 1)))?;
+            let drive = Drive::from_spec(spec.get_ref())
+                .map_err(|e| invalid(spec.span(), format!("boundary {}: {e}", k + 1)))?;
             let several = pieces.len() > 1;
             for (j, piece) in pieces.into_iter().enumerate() {
                 boundaries.push(piece);
+                drives.push(drive);
                 boundary_names.push(if several {
                     format!("boundary {}, segment {}", k + 1, j + 1)
                 } else {
@@ -738,6 +745,7 @@ impl Scene {
             wall_material: b.material_spec().material(),
             boundaries,
             boundary_names,
+            drives,
             grains,
             sinks,
             measures,
@@ -895,7 +903,12 @@ impl Scene {
             checks::check_time_step(&self.settings, self.top - self.walls.floor, smallest)
                 .map_err(SceneError::Unworkable)?;
             checks::check_eps(&self.settings, smallest).map_err(SceneError::Unworkable)?;
+            // (Only where grains are to appear at all.)
+            let appear = self.groups.iter().any(|g| g.count > 0);
             for (boundary, name) in self.boundaries.iter().zip(&self.boundary_names) {
+                if !appear {
+                    break;
+                }
                 let (walls, rule) = (&self.walls, self.spawn_rule);
                 checks::check_boundary(boundary, name, walls, self.top, rule, radii, smallest)
                     .map_err(SceneError::Unworkable)?;

@@ -142,6 +142,8 @@ struct Batch {
     constraint: [usize; LANES],
     a: [usize; LANES],
     b: [usize; LANES],
+    /// The first wall's slot: the walls' records follow the grains'.
+    walls: usize,
     /// Lanes in use, and the most points a lane has.
     lanes: usize,
     most: usize,
@@ -165,7 +167,7 @@ impl Batch {
     /// as they were: nothing reads them.
     #[inline(always)]
     fn fill(&mut self, l: usize, contact: Option<(usize, &Constraint)>, wall: usize) {
-        let slot = |k: usize| k.min(wall);
+        self.walls = wall;
         let Some((i, c)) = contact else {
             self.constraint[l] = 0;
             self.a[l] = wall;
@@ -191,8 +193,8 @@ impl Batch {
             return;
         };
         self.constraint[l] = i;
-        self.a[l] = slot(c.a);
-        self.b[l] = slot(c.b);
+        self.a[l] = c.slot_a;
+        self.b[l] = c.b;
         self.nx.0[l] = c.normal.x;
         self.ny.0[l] = c.normal.y;
         self.friction.0[l] = c.friction;
@@ -443,10 +445,9 @@ impl Gathered {
     /// The velocities back into the solids (the walls' are never written: no lane moves them).
     #[inline(always)]
     fn scatter(&self, bt: &Batch, solids: &mut [Solid]) {
-        let wall = solids.len() - 1;
         for l in 0..bt.lanes {
             for (k, side) in [(bt.a[l], &self.a), (bt.b[l], &self.b)] {
-                if k != wall {
+                if k < bt.walls {
                     let s = &mut solids[k];
                     s.v.x = side.vx.0[l];
                     s.v.y = side.vy.0[l];
@@ -600,6 +601,7 @@ mod tests {
                 Constraint {
                     a,
                     b,
+                    slot_a: a.min(grains),
                     key: (a, b),
                     normal: Vec2::new(angle.cos(), angle.sin()),
                     friction: f(0.0, 1.0),
@@ -647,7 +649,6 @@ mod tests {
             let mut reference = solids.clone();
             for _ in 0..3 {
                 let mut s = State {
-                    wall: grains,
                     solids: &mut reference,
                 };
                 for c in &one {
@@ -659,7 +660,6 @@ mod tests {
                     }
                 }
                 let mut s = State {
-                    wall: grains,
                     solids: &mut solids,
                 };
                 batches.warm_start(&batched, &mut s);
