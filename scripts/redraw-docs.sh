@@ -38,4 +38,16 @@ python3 scripts/beverloo.py --scene-only 8 --out "$tmp" > /dev/null
 # The hopper of docs/reference.md#boundaries.
 "$sg" run examples/scenes/hopper.toml --png docs/hopper.png --quiet
 
-echo "redrawn: docs/hopper.png docs/silo.png docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"
+# The tumbler of docs/peers.md, 12 s in.
+"$sg" run examples/scenes/tumbler.toml --png docs/tumbler.png --width 600 --quiet
+
+# The silo of stars and the chute of docs/silo.md, with their plots.
+"$sg" run examples/scenes/star-silo.toml --steps 1200 --png docs/star-silo.png --width 400 --measures "$tmp/stars" --quiet
+cp "$tmp/stars/discharge.png" docs/star-silo-discharge.png
+"$sg" run examples/scenes/chute.toml --png docs/chute.png --width 700 --measures "$tmp/chute" --quiet
+cp "$tmp/chute/profile.png" docs/chute-profile.png
+
+# The drum of docs/drum.md, 12 s in.
+"$sg" run examples/scenes/drum.toml --png docs/drum.png --quiet
+
+echo "redrawn: docs/star-silo.png docs/star-silo-discharge.png docs/chute.png docs/chute-profile.png docs/tumbler.png docs/drum.png docs/hopper.png docs/silo.png docs/mixed.png docs/circles.png docs/ellipses.png docs/squircles.png docs/mixed-contacts.png docs/mixed.gif docs/pour-1000.png"

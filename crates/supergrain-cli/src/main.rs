@@ -28,6 +28,7 @@ mod figures;
 mod output;
 mod peers;
 mod picture;
+mod plot;
 mod render;
 mod run;
 mod view;

@@ -30,6 +30,13 @@ pub enum SceneArg {
     /// The angle of repose of disks with rolling resistance poured onto a floor, for each
     /// --frictions: supergrain's soft step next to Box2D (a measure of the physics, not of time).
     Repose,
+    /// A half-filled drum of disks turning at each --rates, for each --frictions: the free
+    /// surface's dynamic angle, supergrain's soft step next to Box2D (physics, not time).
+    Drum,
+    /// Box2D's benchmark tumbler: 2,025 squares in a box 20 wide turning at 25 degrees per
+    /// second, 60 Hz, 4 substeps: ms per step over --steps from the start (default 600),
+    /// supergrain's soft step (squares of exponent 16) next to Box2D.
+    Tumbler,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -66,9 +73,9 @@ pub struct Args {
     /// soft,soft-stiff,box2d,rapier; repose: soft,box2d, the two with rolling resistance].
     #[arg(long, value_enum, value_delimiter = ',')]
     engines: Option<Vec<EngineArg>>,
-    /// Heap: timed steps per repetition.
-    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u64).range(1..))]
-    steps: u64,
+    /// Heap: timed steps per repetition [default: 100; tumbler: 600, from the start].
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    steps: Option<u64>,
     /// Heap: untimed steps first, for every engine to settle the heap to its own shapes (the
     /// peers' hold about 6% more area; Box2D's mixed heap moves for some 250 steps).
     #[arg(long, default_value_t = 300)]
@@ -85,21 +92,22 @@ pub struct Args {
     /// Pours: the most steps run (a pour not at rest by then says so).
     #[arg(long, default_value_t = 20_000, value_parser = clap::value_parser!(u64).range(1..))]
     max_steps: u64,
-    /// Repose: the grains' friction coefficients, one pour each (per engine and seed).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "0.1,0.3,0.5,0.8",
-        value_name = "MU"
-    )]
-    frictions: Vec<f64>,
+    /// Repose and drum: the grains' friction coefficients, one run each (per engine and seed)
+    /// [default: repose 0.1,0.3,0.5,0.8; drum 0.3,0.6].
+    #[arg(long, value_delimiter = ',', value_name = "MU")]
+    frictions: Option<Vec<f64>>,
+    /// Drum: its rates in degrees per second, one run each [default: 6,18,54, Froude numbers
+    /// 0.001, 0.01 and 0.09].
+    #[arg(long, value_delimiter = ',', value_name = "DEG_PER_S")]
+    rates: Option<Vec<f64>>,
     /// Repose: the grains' rolling resistance (Box2D's `rollingResistance`).
     #[arg(long, default_value_t = 0.1, value_name = "MU_R")]
     rolling_resistance: f64,
     /// Pours: each pour with seeds 1, 2, ..., N (the scene's draws of grains and places), the
     /// median wall time and steps reported and each seed's in --json [default: the scene's own
     /// seed alone]. Repose: pours per friction and engine, seeds 1 to N, the angles' mean and
-    /// spread reported [default: 3].
+    /// spread reported [default: 3]. Drum: runs per rate and friction, seeds 1 to N (the radii), the
+    /// mean reported [default: 3].
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     seeds: Option<u64>,
     /// Repose: disks per pour.
@@ -155,6 +163,12 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
     if args.scene == SceneArg::Repose {
         return repose(&args, engines, threads);
     }
+    if args.scene == SceneArg::Drum {
+        return drum(&args);
+    }
+    if args.scene == SceneArg::Tumbler {
+        return tumbler(&args, threads);
+    }
     if args.scene == SceneArg::Heap && args.seeds.is_some() {
         anyhow::bail!(
             "--seeds: the heap is a settled dump and draws nothing; seeds apply to the pours \
@@ -168,7 +182,9 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             SceneArg::Pour10k => vec![SceneKind::Pour10k],
             SceneArg::All => SceneKind::ALL.to_vec(),
             SceneArg::Bidisperse => vec![SceneKind::Bidisperse],
-            SceneArg::Repose => unreachable!("handled above"),
+            SceneArg::Repose | SceneArg::Drum | SceneArg::Tumbler => {
+                unreachable!("handled above")
+            }
         },
         shapes: match (args.scene, args.shapes) {
             (SceneArg::Bidisperse, ShapesArg::Mix) => {
@@ -191,7 +207,7 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
         }),
         threads: threads.map_or(DEFAULT_THREADS.to_vec(), |n| vec![usize::from(n)]),
         warmup: args.warmup,
-        steps: args.steps,
+        steps: args.steps.unwrap_or(100),
         reps: args.reps as usize,
         rest: Rest {
             speed: args.rest_speed,
@@ -401,6 +417,7 @@ fn repose(
     if let Some(bad) = args
         .frictions
         .iter()
+        .flatten()
         .find(|mu| !(mu.is_finite() && **mu > 0.0))
     {
         anyhow::bail!("--frictions: expected positive numbers, got {bad}");
@@ -413,7 +430,10 @@ fn repose(
     }
     let defaults = Options::default();
     let options = Options {
-        frictions: args.frictions.clone(),
+        frictions: args
+            .frictions
+            .clone()
+            .unwrap_or_else(|| supergrain_peers::repose::FRICTIONS.to_vec()),
         rolling_resistance: args.rolling_resistance,
         seeds: (1..=args.seeds.unwrap_or(3)).collect(),
         pour: Pour {
@@ -505,6 +525,151 @@ fn repose(
         pour.radius[1],
         options.rolling_resistance,
         runs.len()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--scene drum`: the dynamic angle per rate and friction, supergrain's soft step and Box2D.
+#[cfg(feature = "peers")]
+fn drum(args: &Args) -> Result<ExitCode> {
+    use supergrain_peers::turning::{
+        DRUM_CAPSULES, DRUM_FRICTIONS, DRUM_RATES, Drum, drum_box2d, drum_supergrain,
+    };
+    let frictions = args.frictions.clone().unwrap_or(DRUM_FRICTIONS.to_vec());
+    let rates = args.rates.clone().unwrap_or(DRUM_RATES.to_vec());
+    if let Some(bad) = frictions.iter().find(|mu| !(mu.is_finite() && **mu > 0.0)) {
+        anyhow::bail!("--frictions: expected positive numbers, got {bad}");
+    }
+    if let Some(bad) = rates.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+        anyhow::bail!("--rates: expected positive numbers of degrees per second, got {bad}");
+    }
+    let drum = Drum::default();
+    let seeds: Vec<u64> = (1..=args.seeds.unwrap_or(3)).collect();
+    // Each cell the mean over the seeds (the radii's draws), with each seed's angle.
+    let mut rows = Vec::new();
+    for &rate in &rates {
+        for &mu in &frictions {
+            let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+            for &seed in &seeds {
+                let drum = Drum { seed, ..drum };
+                eprintln!("running drum at {rate} degrees/s, friction {mu}, seed {seed}");
+                ours.push(drum_supergrain(&drum, mu, rate).map_err(|e| anyhow::anyhow!("{e}"))?);
+                theirs.push(drum_box2d(&drum, mu, rate).map_err(|e| anyhow::anyhow!("{e}"))?);
+            }
+            let mean = |v: &[(f64, usize)]| {
+                let a: Vec<f64> = v.iter().map(|x| x.0).collect();
+                (a.iter().sum::<f64>() / a.len() as f64, v[0].1, a)
+            };
+            rows.push((rate, mu, mean(&ours), mean(&theirs)));
+        }
+    }
+    if args.json || args.csv {
+        let rows: Vec<_> = rows
+            .iter()
+            .map(|(rate, mu, ours, theirs)| {
+                serde_json::json!({
+                    "rate": rate, "friction": mu, "supergrain_soft_degrees": ours.0,
+                    "box2d_degrees": theirs.0, "samples": ours.1,
+                    "supergrain_soft_seeds": ours.2, "box2d_seeds": theirs.2,
+                    "seeds": seeds, "grains": drum.grains().len(),
+                })
+            })
+            .collect();
+        if args.csv {
+            return crate::bench::print_csv(&rows);
+        }
+        outln!("{}", serde_json::json!({ "runs": rows }));
+        return Ok(ExitCode::SUCCESS);
+    }
+    outln!(
+        "{:>10} {:>6} {:>16} {:>10} {:>6}",
+        "deg/s",
+        "mu",
+        "supergrain-soft",
+        "box2d-v3",
+        "gap"
+    );
+    for (rate, mu, ours, theirs) in &rows {
+        outln!(
+            "{rate:>10} {mu:>6} {:>16.1} {:>10.1} {:>6.1}",
+            ours.0,
+            theirs.0,
+            ours.0 - theirs.0
+        );
+    }
+    outln!(
+        "dynamic angle of the free surface in degrees: the mean over {} seeds of the mean of {} \
+         fits (every 6 steps over {} s, after {} s); {} disks of radius {}-{} in a drum of \
+         radius {} (Box2D: {} capsules around it), 60 Hz, 4 substeps",
+        seeds.len(),
+        rows.first().map_or(0, |r| r.2.1),
+        drum.measure,
+        drum.settle,
+        drum.grains().len(),
+        drum.grain_radius[0],
+        drum.grain_radius[1],
+        drum.radius,
+        DRUM_CAPSULES
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--scene tumbler`: ms per step of Box2D's tumbler, supergrain's soft step and Box2D.
+#[cfg(feature = "peers")]
+fn tumbler(args: &Args, threads: Option<u16>) -> Result<ExitCode> {
+    use supergrain_peers::turning::{TUMBLER_EXPONENT, tumbler_box2d, tumbler_supergrain};
+    let steps = args.steps.unwrap_or(600);
+    let reps = args.reps as usize;
+    let threads: Vec<usize> = match threads {
+        Some(t) => vec![usize::from(t)],
+        None => DEFAULT_THREADS.to_vec(),
+    };
+    let mut rows = Vec::new();
+    for &t in &threads {
+        eprintln!("running tumbler supergrain-soft {t} thread(s)");
+        let ours = tumbler_supergrain(t, steps, reps).map_err(|e| anyhow::anyhow!("{e}"))?;
+        eprintln!("running tumbler box2d-v3 {t} thread(s)");
+        let theirs = tumbler_box2d(t, steps, reps).map_err(|e| anyhow::anyhow!("{e}"))?;
+        rows.push((t, ours, theirs));
+    }
+    if args.json || args.csv {
+        let rows: Vec<_> = rows
+            .iter()
+            .map(|(t, ours, theirs)| {
+                serde_json::json!({
+                    "threads": t, "steps": steps, "grains": ours.grains,
+                    "supergrain_soft_ms_per_step": ours.ms_per_step,
+                    "box2d_ms_per_step": theirs.ms_per_step,
+                    "x_box2d": ours.ms_per_step / theirs.ms_per_step,
+                    "supergrain_soft_runs": ours.runs, "box2d_runs": theirs.runs,
+                })
+            })
+            .collect();
+        if args.csv {
+            return crate::bench::print_csv(&rows);
+        }
+        outln!("{}", serde_json::json!({ "runs": rows }));
+        return Ok(ExitCode::SUCCESS);
+    }
+    outln!(
+        "{:>8} {:>22} {:>16} {:>8}",
+        "threads",
+        "supergrain-soft ms",
+        "box2d-v3 ms",
+        "x box2d"
+    );
+    for (t, ours, theirs) in &rows {
+        outln!(
+            "{t:>8} {:>22.3} {:>16.3} {:>8.2}",
+            ours.ms_per_step,
+            theirs.ms_per_step,
+            ours.ms_per_step / theirs.ms_per_step
+        );
+    }
+    outln!(
+        "ms per step over {steps} steps from the start, median of {reps}; 2,025 squares of side \
+         0.25 (supergrain: superellipses of exponent {TUMBLER_EXPONENT}), a box 19 wide inside \
+         turning at 25 degrees per second, 60 Hz, 4 substeps"
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -31,6 +31,9 @@ enum MeasureArg {
     Discharge,
     /// The grains' kinetic energy, translational and rotational.
     Energy,
+    /// The angle of one straight free surface (a drum's): a line through the highest grain of
+    /// each bin across the middle 60% of the grains' width.
+    Surface,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -248,15 +251,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
         let kind = match m {
             MeasureArg::Discharge => SeriesKind::Discharge,
             MeasureArg::Energy => SeriesKind::Energy,
+            MeasureArg::Surface => SeriesKind::Surface,
         };
         if kind == SeriesKind::Discharge && world.sinks.is_empty() {
             bail!("--measure discharge needs a [[sink]] in the scene to measure");
         }
         if !world.measures.iter().any(|s| s.kind == kind) {
-            world.measures.push(Series {
-                kind,
-                every: args.every,
-            });
+            world.measures.push(Series::new(kind, args.every));
         }
     }
     if args.measures.is_none() && !world.measures.is_empty() && !args.quiet {
@@ -313,19 +314,22 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let vtk = vtk.map(Folder::make).transpose()?;
     let frames = frames.map(Folder::make).transpose()?;
     // Each measure's CSV, its header now and a row at the start, then as it is due.
-    let mut series: Vec<(Series, Output)> = Vec::new();
+    // Each with its CSV's path and its plot's (drawn from the CSV at the end).
+    let mut series: Vec<(Series, Output, PathBuf, Target)> = Vec::new();
     if let Some(dir) = measures_dir.map(Folder::make).transpose()? {
         for (k, m) in world.measures.iter().enumerate() {
             let twice = world.measures.iter().filter(|o| o.kind == m.kind).count() > 1;
             let name = if twice {
-                format!("{}-{}.csv", m.kind.name(), k + 1)
+                format!("{}-{}", m.kind.name(), k + 1)
             } else {
-                format!("{}.csv", m.kind.name())
+                m.kind.name().to_string()
             };
-            let mut out = Target::resolve(Some(&dir.join(name)))?.open()?;
+            let csv = dir.join(format!("{name}.csv"));
+            let mut out = Target::resolve(Some(&csv))?.open()?;
             writeln!(out, "{}", m.header())?;
             m.write_rows(&world, &mut out)?;
-            series.push((*m, out));
+            let png = Target::resolve(Some(&dir.join(format!("{name}.png"))))?;
+            series.push((*m, out, csv, png));
         }
     }
     let mut gif_out = gif_to.as_ref().map(Target::open).transpose()?;
@@ -449,7 +453,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         }
         contacts += stats.contacts as u64;
         frame(&world, &mut trajectory, &mut failures, &|n| k % n == 0);
-        series.retain_mut(|(m, out)| {
+        series.retain_mut(|(m, out, _, _)| {
             !m.due(world.step)
                 || failures.keep(
                     m.write_rows(&world, out)
@@ -509,12 +513,21 @@ pub fn run(args: Args) -> Result<ExitCode> {
     if let Some(f) = forces {
         failures.keep(f.finish());
     }
-    for (m, mut out) in series {
+    for (m, mut out, csv, png) in series {
         // The last state, where its row was not just written.
         if !m.due(world.step) {
             failures.keep(m.write_rows(&world, &mut out).map_err(Into::into));
         }
-        failures.keep(out.finish());
+        // The plot from the CSV, once the CSV is whole.
+        let whole = out.finish();
+        let written = whole.is_ok();
+        failures.keep(whole);
+        if written {
+            failures.keep(
+                png.open()
+                    .and_then(|out| crate::plot::plot(m.kind, &csv, out)),
+            );
+        }
     }
     // A GIF that failed during the run is not renamed into place (dropped, its temporary goes).
     let gif_whole = gif.is_some();

@@ -105,6 +105,22 @@ fn the_discharge_csv_conserves_the_grains_at_every_row() {
     }
     assert_eq!(rows.last().unwrap()[0], 400.0);
     assert_eq!(last as u64, left_through(&summary));
+    // Its plot beside it: the count's line (the first colour) rises from the chart's foot to
+    // its head, left to right.
+    let plot = image::open(out.join("discharge.png")).unwrap().to_rgb8();
+    assert_eq!(plot.dimensions(), (800, 480));
+    let line: Vec<(u32, u32)> = plot
+        .enumerate_pixels()
+        .filter(|(_, _, px)| px.0 == [0x1e, 0x88, 0xe5])
+        .map(|(x, y, _)| (x, y))
+        .collect();
+    assert!(line.len() > 300, "{} pixels of the line", line.len());
+    let first = line.iter().min_by_key(|p| p.0).unwrap();
+    let last = line.iter().max_by_key(|p| p.0).unwrap();
+    assert!(
+        first.1 > last.1 + 250,
+        "the line runs from {first:?} to {last:?}: not a rising count"
+    );
 }
 
 /// `--measure energy`: a disk of radius 0.2 (density 1) let go from rest has `m (g t)^2 / 2`,

@@ -10,6 +10,8 @@
 //! - [`bench`]: the cases of `bench peers` and their ratios to Box2D.
 //! - [`repose`]: the angle of repose of poured disks against friction, in supergrain's soft step
 //!   and Box2D (`--scene repose`): a measure of the physics, not of time.
+//! - [`turning`]: grains in a turning container: a drum's dynamic angle (`--scene drum`) and
+//!   Box2D's tumbler timed (`--scene tumbler`).
 //!
 //! This crate has its own workspace, so that the main workspace's tests build neither engine;
 //! see `docs/peers.md`.
@@ -23,3 +25,4 @@ pub mod repose;
 pub mod run;
 pub mod scene;
 pub mod supergrain;
+pub mod turning;

@@ -524,3 +524,59 @@ fn the_stiff_pour_is_the_scene_with_max_overlap() {
     assert_eq!(neutral.grain_count(), 1000);
     assert!(bench::pour(SceneKind::Bidisperse, Shapes::Mix, None).is_err());
 }
+
+/// The drum's lattice: the count asked for, every disk inside the drum, none touching another.
+#[test]
+fn the_drum_is_filled_with_disks_apart() {
+    use supergrain_peers::turning::Drum;
+    let drum = Drum::default();
+    let grains = drum.grains();
+    assert_eq!(grains.len(), drum.count);
+    for (k, &(c, r)) in grains.iter().enumerate() {
+        assert!(c.norm() + r < drum.radius, "disk {k} reaches the wall");
+        for &(d, s) in &grains[..k] {
+            assert!((c - d).norm() > r + s, "disks overlap at {c:?}");
+        }
+    }
+}
+
+/// Both engines' drums turn their grains up to a dynamic angle: the surface rises to the right
+/// (the drum turns counter-clockwise) at an angle a granular surface has (10-50 degrees); in
+/// supergrain a rougher drum's is steeper (Box2D's moved by 1.4 degrees from friction 0.2 to
+/// 0.8 in this short run, within its noise).
+#[test]
+fn both_drums_raise_a_surface_that_rises_with_friction() {
+    use supergrain_peers::turning::{Drum, drum_box2d, drum_supergrain};
+    let drum = Drum {
+        settle: 3.0,
+        measure: 4.0,
+        ..Drum::default()
+    };
+    for (name, run) in [
+        ("supergrain", drum_supergrain as fn(&Drum, f64, f64) -> _),
+        ("box2d", drum_box2d),
+    ] {
+        let smooth = run(&drum, 0.2, 18.0).unwrap().0;
+        let rough = run(&drum, 0.8, 18.0).unwrap().0;
+        assert!(
+            (10.0..50.0).contains(&smooth) && (10.0..50.0).contains(&rough),
+            "{name}: {smooth}, {rough}"
+        );
+        if name == "supergrain" {
+            assert!(
+                rough > smooth + 2.0,
+                "{name}: mu 0.2 {smooth}, mu 0.8 {rough}"
+            );
+        }
+    }
+}
+
+/// The tumbler runs in both engines, and its squares stay inside the turning box.
+#[test]
+fn the_tumbler_runs_in_both_engines() {
+    use supergrain_peers::turning::{tumbler_box2d, tumbler_supergrain};
+    let ours = tumbler_supergrain(1, 5, 1).unwrap();
+    let theirs = tumbler_box2d(1, 5, 1).unwrap();
+    assert_eq!((ours.grains, theirs.grains), (2025, 2025));
+    assert!(ours.ms_per_step > 0.0 && theirs.ms_per_step > 0.0);
+}

@@ -236,6 +236,7 @@ impl Sim {
             spawn_interval: 1,
             spawn_count: 1,
             spawn_rule: world.pending.rule(),
+            spawn_between: world.pending.between(),
             settings: world.settings,
             groups: Vec::new(),
             wall_material: world.wall_material,

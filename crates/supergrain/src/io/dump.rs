@@ -212,6 +212,9 @@ pub struct QueueJson {
     /// from before the rule).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fair: Option<FairJson>,
+    /// Where grains appear across (`[spawn] between`); absent: between the walls.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub between: Option<[f64; 2]>,
 }
 
 /// Where the fair rule stands (see [`Fair`]).
@@ -792,6 +795,19 @@ impl Dump {
             return Err(DumpError::Walls(format!("top must be finite, got {top}")));
         }
         checks::check_box(&walls, top).map_err(DumpError::Walls)?;
+        let between = self.queue.as_ref().and_then(|q| q.between);
+        if let Some([x0, x1]) = between
+            && !(walls.left <= x0 && x0 < x1 && x1 <= walls.right)
+        {
+            return Err(DumpError::Walls(format!(
+                "queue: between = [{x0}, {x1}] must lie within the walls ({} to {}), its first \
+                 number below its second",
+                walls.left, walls.right
+            )));
+        }
+        // Where the queue's grains appear across.
+        let walls_box = walls;
+        let walls = crate::world::narrowed(&walls_box, between);
         for (index, p) in waiting.iter().enumerate() {
             let what = if old {
                 format!("pending grain {index}")
@@ -828,7 +844,8 @@ impl Dump {
                 head: f.head,
                 tries: f.tries,
             });
-        let pending = Queue::from_parts(waiting, generator, fair);
+        let pending = Queue::from_parts(waiting, generator, fair, between);
+        let walls = walls_box;
         let smallest = bodies
             .iter()
             .map(|b| b.shape.min_semi_axis())
@@ -947,7 +964,8 @@ impl Dump {
                     world.pending.largest_bounding_radius(),
                 ];
                 let (rule, thinnest) = (world.pending.rule(), world.pending.smallest_semi_axis());
-                checks::check_boundary(&boundary, &name, &world.walls, top, rule, radii, thinnest)
+                let walls = crate::world::narrowed(&world.walls, world.pending.between());
+                checks::check_boundary(&boundary, &name, &walls, top, rule, radii, thinnest)
                     .map_err(DumpError::Walls)?;
             }
             world.bases.push(boundary);
@@ -1291,6 +1309,7 @@ fn queue_json(queue: &Queue) -> QueueJson {
             head: f.head,
             tries: f.tries,
         }),
+        between: queue.between(),
     }
 }
 

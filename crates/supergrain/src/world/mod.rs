@@ -12,7 +12,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub use rest::{Rest, RestCounter};
 pub use scene::{Group, PRESETS, Placed, Range, Scene, SceneError};
 pub use sink::Sink;
-pub use spawn::{BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP};
+pub use spawn::{
+    BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP, narrowed,
+};
 
 use crate::body::{Body, BodyId, Drive, Material, WallMotion, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
@@ -366,12 +368,14 @@ impl World {
             sink.grains += 1;
             sink.mass += mass;
             if sink.recycle {
+                // Back at the top where it left, or the source's nearest place to it.
                 let r = b.shape.bounding_radius();
-                let (lo, hi) = (self.walls.left + r, self.walls.right - r);
+                let source = spawn::narrowed(&self.walls, self.pending.between());
+                let (lo, hi) = (source.left + r, source.right - r);
                 let x = if lo < hi {
                     b.center.x.clamp(lo, hi)
                 } else {
-                    0.5 * (self.walls.left + self.walls.right)
+                    0.5 * (source.left + source.right)
                 };
                 self.pending.push_back(Pending {
                     shape: b.shape,

@@ -116,6 +116,9 @@ pub struct Scene {
     pub spawn_count: u32,
     /// How due grains appear when their place is taken (`[spawn] rule`; see [`SpawnRule`]).
     pub spawn_rule: SpawnRule,
+    /// Where grains appear across, `[x0, x1]` within the walls (`[spawn] between`); `None`:
+    /// between the walls.
+    pub spawn_between: Option<[f64; 2]>,
     pub settings: Settings,
     pub groups: Vec<Group>,
     /// What the walls are made of (the soft step's).
@@ -257,6 +260,7 @@ impl Scene {
             top: 10.0,
             spawn_interval: 20,
             spawn_count: 1,
+            spawn_between: None,
             spawn_rule: SpawnRule::Queue,
             settings: Settings {
                 strip_width: auto_strip_width(std::slice::from_ref(&g)),
@@ -497,6 +501,66 @@ impl Scene {
             }
             Some(c) => *c.get_ref(),
         };
+        let mut spawn_interval = file
+            .spawn
+            .as_ref()
+            .and_then(|s| s.interval.as_ref())
+            .map_or(20, |i| *i.get_ref());
+        let mut spawn_count = spawn_count;
+        if let Some(r) = file.spawn.as_ref().and_then(|s| s.rate.as_ref()) {
+            let spec = file.spawn.as_ref().expect("a [spawn] table");
+            if spec.interval.is_some() || spec.count.is_some() {
+                return Err(invalid(
+                    r.span(),
+                    "spawn: give rate, or interval and count, not both".into(),
+                ));
+            }
+            let rate = *r.get_ref();
+            // Grains per step: a whole number a step from one a step up, one every so many
+            // steps below (the rate is then `1 / (interval step)`, rounded to whole steps).
+            let per_step = rate * settings.step;
+            if !(rate.is_finite() && rate > 0.0 && per_step <= f64::from(u32::MAX)) {
+                return Err(invalid(
+                    r.span(),
+                    format!(
+                        "spawn: rate must be a positive number of grains per second, got {rate}"
+                    ),
+                ));
+            }
+            (spawn_interval, spawn_count) = if per_step >= 1.0 {
+                (1, per_step.round() as u32)
+            } else {
+                ((1.0 / per_step).round().min(f64::from(u32::MAX)) as u32, 1)
+            };
+        }
+        let spawn_between = match file.spawn.as_ref().and_then(|s| s.between.as_ref()) {
+            None => None,
+            Some(v) => {
+                let (left, right) = (b.left.get_ref().0, b.right.get_ref().0);
+                match v.get_ref()[..] {
+                    [x0, x1] if left <= x0.0 && x0.0 < x1.0 && x1.0 <= right => Some([x0.0, x1.0]),
+                    [x0, x1] => {
+                        return Err(invalid(
+                            v.span(),
+                            format!(
+                                "spawn: between = [{}, {}] must lie within the walls ({left} to \
+                                 {right}), its first number below its second",
+                                x0.0, x1.0
+                            ),
+                        ));
+                    }
+                    _ => {
+                        return Err(invalid(
+                            v.span(),
+                            format!(
+                                "spawn: between needs two numbers [x0, x1], got {}",
+                                v.get_ref().len()
+                            ),
+                        ));
+                    }
+                }
+            }
+        };
         // The fair rule with the soft model; the paper's keeps the rule its runs were made with.
         let spawn_rule = match file.spawn.as_ref().and_then(|s| s.rule.as_ref()) {
             None if settings.model == Model::Soft => SpawnRule::Fair,
@@ -676,12 +740,9 @@ impl Scene {
                 fixed: g.fixed,
             });
         }
-        let mut sinks = Vec::new();
-        for (k, spanned) in file.sinks.iter().enumerate() {
-            let region = &spanned.get_ref().region;
-            let bad = |message: String| {
-                invalid(region.span(), format!("sink {}: region {message}", k + 1))
-            };
+        // A `region = [[x0, x1], [y0, y1]]` of a sink or a measure (`what`), checked.
+        let region_of = |region: &toml::Spanned<Vec<Vec<Finite>>>, what: String| {
+            let bad = |message: String| invalid(region.span(), format!("{what}: region {message}"));
             let [x, y] = match &region.get_ref()[..] {
                 [x, y] => [x, y],
                 _ => return Err(bad("needs [[x0, x1], [y0, y1]]".into())),
@@ -695,10 +756,14 @@ impl Scene {
                     x0.0, x1.0, y0.0, y1.0
                 )));
             }
-            let region = Aabb {
+            Ok(Aabb {
                 min: Vec2::new(x0.0, y0.0),
                 max: Vec2::new(x1.0, y1.0),
-            };
+            })
+        };
+        let mut sinks = Vec::new();
+        for (k, spanned) in file.sinks.iter().enumerate() {
+            let region = region_of(&spanned.get_ref().region, format!("sink {}", k + 1))?;
             sinks.push(Sink::new(region, spanned.get_ref().recycle));
         }
         let mut measures = Vec::new();
@@ -723,9 +788,44 @@ impl Scene {
                     ),
                 ));
             }
+            let what = format!("measure {}", k + 1);
+            let region = m
+                .region
+                .as_ref()
+                .map(|r| region_of(r, what.clone()))
+                .transpose()?
+                .map(|b| [[b.min.x, b.max.x], [b.min.y, b.max.y]]);
+            let regional = matches!(m.kind, SeriesKind::Packing | SeriesKind::Profile);
+            if regional && region.is_none() {
+                return Err(invalid(
+                    spanned.span(),
+                    format!(
+                        "{what}: kind = \"{}\" needs a region = [[x0, x1], [y0, y1]]",
+                        m.kind.name()
+                    ),
+                ));
+            }
+            if !regional && (region.is_some() || m.bins.is_some()) {
+                return Err(invalid(
+                    spanned.span(),
+                    format!(
+                        "{what}: kind = \"{}\" takes no region or bins",
+                        m.kind.name()
+                    ),
+                ));
+            }
+            if let Some(b) = &m.bins
+                && (*b.get_ref() == 0 || m.kind != SeriesKind::Profile)
+            {
+                return Err(invalid(
+                    b.span(),
+                    format!("{what}: bins is a profile's, at least 1"),
+                ));
+            }
             measures.push(Series {
-                kind: m.kind,
-                every,
+                region,
+                bins: m.bins.as_ref().map(|b| *b.get_ref()),
+                ..Series::new(m.kind, every)
             });
         }
         let scene = Scene {
@@ -737,8 +837,9 @@ impl Scene {
                 floor: b.floor.get_ref().0,
             },
             top: b.top.get_ref().0,
-            spawn_interval: file.spawn.as_ref().and_then(|s| s.interval).unwrap_or(20),
+            spawn_interval,
             spawn_count,
+            spawn_between,
             spawn_rule,
             settings,
             groups,
@@ -800,7 +901,8 @@ impl Scene {
                 continue;
             }
             let field = if g.circles { "radius" } else { "semi_axes" };
-            checks::check_fits(&self.walls, self.top, largest.bounding_radius(), field)
+            let spawn_walls = super::spawn::narrowed(&self.walls, self.spawn_between);
+            checks::check_fits(&spawn_walls, self.top, largest.bounding_radius(), field)
                 .map_err(group_error)?;
             // Mass and moment of inertia grow with each semi-axis and exponent.
             for shape in [least, largest] {
@@ -909,7 +1011,8 @@ impl Scene {
                 if !appear {
                     break;
                 }
-                let (walls, rule) = (&self.walls, self.spawn_rule);
+                let walls = &super::spawn::narrowed(&self.walls, self.spawn_between);
+                let rule = self.spawn_rule;
                 checks::check_boundary(boundary, name, walls, self.top, rule, radii, smallest)
                     .map_err(SceneError::Unworkable)?;
             }
@@ -958,12 +1061,15 @@ struct SceneFile {
     measures: Vec<toml::Spanned<MeasureSpec>>,
 }
 
-/// A measure: `kind` (`"discharge"` or `"energy"`) and `every` (steps between rows, 10).
+/// A measure: `kind` (`"discharge"`, `"energy"`, `"surface"`, `"packing"` or `"profile"`),
+/// `every` (steps between rows, 10), and a packing's or profile's `region` and `bins`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MeasureSpec {
     kind: SeriesKind,
     every: Option<toml::Spanned<u64>>,
+    region: Option<toml::Spanned<Vec<Vec<Finite>>>>,
+    bins: Option<toml::Spanned<u32>>,
 }
 
 /// A sink: `region = [[x0, x1], [y0, y1]]`, and whether its grains come back (`recycle`).
@@ -1022,8 +1128,12 @@ struct BoxSpec {
 #[derive(Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 struct SpawnSpec {
-    interval: Option<u32>,
+    interval: Option<toml::Spanned<u32>>,
     count: Option<toml::Spanned<u32>>,
+    /// Grains per second, instead of `interval` and `count`.
+    rate: Option<toml::Spanned<f64>>,
+    /// Where grains appear across: `[x0, x1]` within the walls.
+    between: Option<toml::Spanned<Vec<Finite>>>,
     /// "fair" or "queue" (see [`SpawnRule`]); checked by hand, so that the error names the key.
     rule: Option<toml::Spanned<String>>,
 }

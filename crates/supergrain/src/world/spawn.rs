@@ -53,6 +53,18 @@ pub const BAND_IN_RADII: f64 = 4.0;
 /// the step with probability `1 - f^8` (96% at two thirds taken).
 pub const TRIES_PER_STEP: u64 = 8;
 
+/// The box's walls, or where grains appear across when a source is narrower (`between`).
+pub fn narrowed(walls: &Walls, between: Option<[f64; 2]>) -> Walls {
+    match between {
+        Some([left, right]) => Walls {
+            left,
+            right,
+            floor: walls.floor,
+        },
+        None => *walls,
+    }
+}
+
 /// Where the fair rule stands: the next grain to appear and the places it has been offered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Fair {
@@ -262,6 +274,9 @@ pub struct Queue {
     generator: Option<Generator>,
     /// The fair rule's state; `None`: the queue rule.
     fair: Option<Fair>,
+    /// Where grains appear across (`[spawn] between`, a source narrower than the box: over a
+    /// drum, a tumbler, a hopper's mouth); `None`: between the walls.
+    between: Option<[f64; 2]>,
 }
 
 /// What [`Queue::spawn`] changed, for [`Queue::undo`].
@@ -287,9 +302,10 @@ impl Queue {
                 0,
                 scene.spawn_interval,
                 scene.spawn_count,
-                scene.walls,
+                narrowed(&scene.walls, scene.spawn_between),
                 scene.groups.clone(),
             ),
+            between: scene.spawn_between,
             fair: (scene.spawn_rule == SpawnRule::Fair).then_some(Fair {
                 seed: scene.seed,
                 head: 0,
@@ -304,12 +320,19 @@ impl Queue {
         waiting: VecDeque<Pending>,
         generator: Option<Generator>,
         fair: Option<Fair>,
+        between: Option<[f64; 2]>,
     ) -> Queue {
         Queue {
             waiting,
             generator,
             fair,
+            between,
         }
+    }
+
+    /// Where grains appear across, when narrower than the box (`[spawn] between`).
+    pub fn between(&self) -> Option<[f64; 2]> {
+        self.between
     }
 
     /// The rule by which the grains appear.
@@ -428,6 +451,7 @@ impl Queue {
         taken.left_waiting = 0;
         taken.generator = None;
         taken.fair = self.fair;
+        let walls = &narrowed(walls, self.between);
         if self.fair.is_some() {
             return self.spawn_fair(step, walls, top, place, taken);
         }
