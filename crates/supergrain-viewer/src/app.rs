@@ -377,16 +377,23 @@ impl App {
                     .logarithmic(true)
                     .text("time step"),
             );
-            ui.add(
-                egui::Slider::new(&mut t.damping, 0.0..=0.99)
-                    .clamping(egui::SliderClamping::Edits)
-                    .text("damping"),
-            );
-            ui.add(
-                egui::Slider::new(&mut t.iterations, 1..=MAX_ITERATIONS)
-                    .clamping(egui::SliderClamping::Edits)
-                    .text("iterations"),
-            );
+            // The panel follows the scene's model: the soft step's substeps, contact and drag;
+            // the paper's projection's damping and passes.
+            match t.soft.as_mut() {
+                Some(soft) => soft_sliders(ui, soft),
+                None => {
+                    ui.add(
+                        egui::Slider::new(&mut t.damping, 0.0..=0.99)
+                            .clamping(egui::SliderClamping::Edits)
+                            .text("damping"),
+                    );
+                    ui.add(
+                        egui::Slider::new(&mut t.iterations, 1..=MAX_ITERATIONS)
+                            .clamping(egui::SliderClamping::Edits)
+                            .text("iterations"),
+                    );
+                }
+            }
             ui.add(
                 egui::Slider::new(&mut t.depth, 1..=MAX_DEPTH)
                     .clamping(egui::SliderClamping::Edits)
@@ -812,6 +819,43 @@ impl App {
             self.send(command);
         }
     }
+}
+
+/// The soft step's settings (docs/reference.md, `[solver]`), each in its scene key's range.
+fn soft_sliders(ui: &mut egui::Ui, s: &mut supergrain::settings::SoftSettings) {
+    ui.add(egui::Slider::new(&mut s.substeps, 1..=64).text("substeps"));
+    ui.add(
+        egui::Slider::new(&mut s.contact_hertz, 1.0..=1000.0)
+            .clamping(egui::SliderClamping::Edits)
+            .logarithmic(true)
+            .text("contact stiffness (Hz)"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.damping_ratio, 0.0..=20.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("contact damping ratio"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.push_out, 0.1..=20.0)
+            .clamping(egui::SliderClamping::Edits)
+            .logarithmic(true)
+            .text("push-out speed"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.restitution_threshold, 0.0..=5.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("restitution threshold"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.linear_damping, 0.0..=5.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("air drag"),
+    );
+    ui.add(
+        egui::Slider::new(&mut s.angular_damping, 0.0..=5.0)
+            .clamping(egui::SliderClamping::Edits)
+            .text("angular drag"),
+    );
 }
 
 fn shape_sliders(

@@ -7,7 +7,7 @@ use supergrain::contact::{Penetration, WallPenetration};
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::render::{Colouring, Style, render_world};
-use supergrain::settings::{Model, Settings};
+use supergrain::settings::{Model, Settings, SoftSettings};
 use supergrain::shape::{Pose, Superellipse};
 use supergrain::subdivision::Precision;
 use supergrain::world::{MaterialOf, PRESETS, Scene, Touch, World};
@@ -47,6 +47,9 @@ pub struct Tuning {
     pub iterations: u32,
     pub depth: u32,
     pub eps: f64,
+    /// The soft model's own settings (`None` under the paper's model, whose panel shows its
+    /// damping and iterations instead).
+    pub soft: Option<SoftSettings>,
 }
 
 impl Tuning {
@@ -57,6 +60,7 @@ impl Tuning {
             iterations: s.max_iterations,
             depth: s.precision.depth(),
             eps: s.precision.eps(),
+            soft: (s.model == Model::Soft).then_some(s.soft),
         }
     }
 }
@@ -406,6 +410,9 @@ impl Sim {
             ));
         }
         let precision = Precision::new(t.depth, t.eps).map_err(|e| e.to_string())?;
+        if let Some(soft) = &t.soft {
+            soft.validate().map_err(|e| format!("settings: {e}"))?;
+        }
         // Verlet keeps velocity as `(x - x_prev) / h`: a new step keeps the velocities.
         let ratio = t.step / self.world.settings.step;
         if ratio != 1.0 {
@@ -419,6 +426,11 @@ impl Sim {
         s.damping = t.damping;
         s.max_iterations = t.iterations;
         s.precision = precision;
+        if let Some(soft) = t.soft
+            && s.model == Model::Soft
+        {
+            s.soft = soft;
+        }
         Ok(())
     }
 

@@ -204,6 +204,7 @@ fn solver_sliders_apply_at_once_and_nonsense_is_refused() {
         iterations: 4,
         depth: 9,
         eps: 0.001,
+        soft: None,
     };
     sim.apply(Command::Tune(t));
     assert_eq!(Tuning::of(&sim.world.settings), t);
@@ -723,4 +724,64 @@ fn a_friction_slider_sets_how_far_a_pushed_block_slides() {
         (braked - want).abs() <= 0.05 * want,
         "slid {braked}, v^2 / (2 mu g) = {want}"
     );
+}
+
+/// Under the soft model the panel shows the soft step's settings: a drag slider makes a
+/// falling ball reach `g / c (1 - e^(-c t))` (the substeps' drag is `1 / (1 + c h)` a substep),
+/// and nonsense is refused, changing nothing.
+#[test]
+fn the_soft_panel_sets_the_soft_steps_settings() {
+    let mut sim = soft_with(BALL, Vec2::new(0.0, 5.0));
+    let now = Tuning::of(&sim.world.settings);
+    let soft = now.soft.expect("the soft model's panel");
+    assert!(
+        Tuning::of(&Sim::preset("circles").unwrap().world.settings)
+            .soft
+            .is_none()
+    );
+    let c = 2.0;
+    let t = Tuning {
+        soft: Some(supergrain::settings::SoftSettings {
+            linear_damping: c,
+            contact_hertz: 45.0,
+            ..soft
+        }),
+        ..now
+    };
+    sim.apply(Command::Tune(t));
+    assert_eq!(sim.message(), None);
+    assert_eq!(sim.world.settings.soft.contact_hertz, 45.0);
+    let h = sim.world.settings.step;
+    let steps = (0.4 / h).round() as usize;
+    for _ in 0..steps {
+        sim.step();
+    }
+    let time = steps as f64 * h;
+    let want = G / c * (1.0 - (-c * time).exp());
+    let v = -sim.world.bodies[0].velocity.y;
+    assert!(
+        (v - want).abs() <= 0.02 * want,
+        "falls at {v}, drag's closed form {want}"
+    );
+    for bad in [
+        supergrain::settings::SoftSettings {
+            substeps: 0,
+            ..soft
+        },
+        supergrain::settings::SoftSettings {
+            contact_hertz: f64::NAN,
+            ..soft
+        },
+        supergrain::settings::SoftSettings {
+            linear_damping: -1.0,
+            ..soft
+        },
+    ] {
+        sim.apply(Command::Tune(Tuning {
+            soft: Some(bad),
+            ..now
+        }));
+        assert!(sim.message().is_some(), "{bad:?} was taken");
+        assert_eq!(sim.world.settings.soft.contact_hertz, 45.0);
+    }
 }

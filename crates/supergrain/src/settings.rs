@@ -171,6 +171,40 @@ pub struct SoftSettings {
     pub carry_reach: f64,
 }
 
+impl SoftSettings {
+    /// The ranges a scene's `[solver]` keys are read in (substeps 1 to 64; stiffness and
+    /// push-out above 0; damping ratio, restitution threshold, slop, drag and carry reach 0 or
+    /// more, all finite), for settings changed elsewhere (the viewer's sliders).
+    pub fn validate(&self) -> Result<(), String> {
+        if !(1..=64).contains(&self.substeps) {
+            return Err(format!("substeps must be 1 to 64, got {}", self.substeps));
+        }
+        for (name, v) in [
+            ("contact_hertz", self.contact_hertz),
+            ("push_out", self.push_out),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} must be a finite number above 0, got {v}"));
+            }
+        }
+        for (name, v) in [
+            ("damping_ratio", self.damping_ratio),
+            ("restitution_threshold", self.restitution_threshold),
+            ("slop", self.slop),
+            ("linear_damping", self.linear_damping),
+            ("angular_damping", self.angular_damping),
+            ("carry_reach", self.carry_reach),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!(
+                    "{name} must be a finite number, 0 or more, got {v}"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for SoftSettings {
     fn default() -> Self {
         SoftSettings {
