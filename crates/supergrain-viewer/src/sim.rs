@@ -413,16 +413,8 @@ impl Sim {
         if let Some(soft) = &t.soft {
             soft.validate().map_err(|e| format!("settings: {e}"))?;
         }
-        // Verlet keeps velocity as `(x - x_prev) / h`: a new step keeps the velocities.
-        let ratio = t.step / self.world.settings.step;
-        if ratio != 1.0 {
-            for b in &mut self.world.bodies {
-                b.previous_center = b.center - (b.center - b.previous_center) * ratio;
-                b.previous_angle = b.angle - (b.angle - b.previous_angle) * ratio;
-            }
-        }
+        self.world.set_step(t.step);
         let s = &mut self.world.settings;
-        s.step = t.step;
         s.damping = t.damping;
         s.max_iterations = t.iterations;
         s.precision = precision;

@@ -333,6 +333,23 @@ impl World {
         }
     }
 
+    /// A new time step, every grain keeping its velocity: the paper model's Verlet keeps a
+    /// velocity as `(x - x_prev) / h`, so each previous pose is moved to match the new step;
+    /// the soft model keeps velocities as they are. Driven boundaries are placed by the time,
+    /// steps done times the step: a new step moves them at once to where that clock puts them
+    /// (a turning drum, whose shape a turn does not change, only changes speed; a tumbler or a
+    /// shaken floor jumps). Not yet mended: the dump would have to keep the clock.
+    pub fn set_step(&mut self, step: f64) {
+        let ratio = step / self.settings.step;
+        if ratio != 1.0 {
+            for b in &mut self.bodies {
+                b.previous_center = b.center - (b.center - b.previous_center) * ratio;
+                b.previous_angle = b.angle - (b.angle - b.previous_angle) * ratio;
+            }
+        }
+        self.settings.step = step;
+    }
+
     /// The simulated time: steps done times the step.
     pub fn time(&self) -> f64 {
         self.step as f64 * self.settings.step
