@@ -247,9 +247,18 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
                         })
                         .collect()
                 });
+                let engine_ms = match &c.result {
+                    Measured::Pour(p) => Some(p.engine_seconds * 1e3 / p.steps.max(1) as f64),
+                    Measured::Heap(_) => None,
+                };
                 serde_json::json!({
                     "scene": c.scene.name(), "shapes": c.shapes.name(), "engine": c.engine.name(),
                     "threads": c.threads, "grains": c.grains, "ms_per_step": ms,
+                    "engine_ms_per_step": engine_ms,
+                    "harness_ms_per_step": match &c.result {
+                        Measured::Pour(p) => Some((p.seconds - p.engine_seconds) * 1e3 / p.steps.max(1) as f64),
+                        Measured::Heap(_) => None,
+                    },
                     "runs_ms_per_step": runs, "seconds": seconds, "steps": steps,
                     "at_rest": at_rest, "x_box2d": c.x_box2d,
                     "overlap_mean": overlap.map(|o| o.mean),
@@ -344,6 +353,55 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             o.warmup,
             o.reps,
             o.steps
+        );
+    }
+    // The pours' engines alone, per step, and the harness's own work on a line of its own.
+    let pours: Vec<_> = cases
+        .iter()
+        .filter_map(|c| match &c.result {
+            Measured::Pour(p) => Some((c, p)),
+            Measured::Heap(_) => None,
+        })
+        .collect();
+    if !pours.is_empty() {
+        outln!();
+        outln!(
+            "{:<10} {:<8} {:<21} {:>7} {:>15} {:>16} {:>15}",
+            "scene",
+            "shapes",
+            "engine",
+            "threads",
+            "engine ms/step",
+            "harness ms/step",
+            "engine x box2d"
+        );
+        let per_step =
+            |p: &supergrain_peers::run::PourTiming| p.engine_seconds * 1e3 / p.steps.max(1) as f64;
+        for (c, p) in &pours {
+            let box2d = pours.iter().find(|(b, _)| {
+                b.engine == Engine::Box2d
+                    && b.scene == c.scene
+                    && b.shapes == c.shapes
+                    && b.threads == c.threads
+            });
+            outln!(
+                "{:<10} {:<8} {:<21} {:>7} {:>15.3} {:>16.3} {:>15}",
+                c.scene.name(),
+                c.shapes.name(),
+                c.engine.name(),
+                c.threads,
+                per_step(p),
+                (p.seconds - p.engine_seconds) * 1e3 / p.steps.max(1) as f64,
+                box2d.map_or("-".to_string(), |(_, b)| format!(
+                    "{:.2}",
+                    per_step(p) / per_step(b)
+                ))
+            );
+        }
+        outln!(
+            "engine: the time inside the engine's step calls alone (supergrain's own spawner is \
+             part of its step); harness: the rest of the pour loop (the peers' spawner, its copies \
+             of every grain and overlap tests, the fastest-grain query for the rest test)"
         );
     }
     if o.scenes.iter().any(|&s| s != SceneKind::Heap) {

@@ -26,6 +26,10 @@ pub struct PourTiming {
     /// Wall time from the first step to rest (or to the step cap), spawning and the rest test
     /// included.
     pub seconds: f64,
+    /// Of `seconds`, the engine's steps alone (supergrain's include its own spawner, which is
+    /// part of its step; the harness's copies of the grains for the peers' spawner, its
+    /// overlap tests and the fastest-grain query are the rest).
+    pub engine_seconds: f64,
     pub steps: u64,
     pub at_rest: bool,
     /// How deep the grains overlap where the pour ended (untimed; disks only:
@@ -38,11 +42,13 @@ impl PourTiming {
     /// overlap (each taken alone), at rest only if every pour was.
     pub fn median_of(runs: &[PourTiming]) -> PourTiming {
         let seconds: Vec<f64> = runs.iter().map(|r| r.seconds).collect();
+        let engine: Vec<f64> = runs.iter().map(|r| r.engine_seconds).collect();
         let steps: Vec<f64> = runs.iter().map(|r| r.steps as f64).collect();
         let overlaps: Option<Vec<Resting>> = runs.iter().map(|r| r.overlap).collect();
         PourTiming {
             grains: runs.first().map_or(0, |r| r.grains),
             seconds: median(&seconds),
+            engine_seconds: median(&engine),
             steps: median(&steps).round() as u64,
             at_rest: runs.iter().all(|r| r.at_rest),
             overlap: overlaps.filter(|o| !o.is_empty()).map(|o| {
@@ -106,6 +112,7 @@ pub fn pour<P: Peer>(scene: &Scene, threads: usize, rest: &Rest) -> Result<PourT
     let mut placed = Vec::with_capacity(scene.grain_count());
     let mut calm = RestCounter::default();
     let start = Instant::now();
+    let mut engine = std::time::Duration::ZERO;
     let mut steps = 0;
     let mut at_rest = false;
     while steps < rest.max_steps && !at_rest {
@@ -115,7 +122,9 @@ pub fn pour<P: Peer>(scene: &Scene, threads: usize, rest: &Rest) -> Result<PourT
                 peer.add(&g)?;
             }
         }
+        let stepping = Instant::now();
         peer.step()?;
+        engine += stepping.elapsed();
         steps += 1;
         at_rest = calm.update(&rest.criterion(), spawner.is_empty(), peer.fastest()?);
     }
@@ -124,6 +133,7 @@ pub fn pour<P: Peer>(scene: &Scene, threads: usize, rest: &Rest) -> Result<PourT
     Ok(PourTiming {
         grains: peer.len(),
         seconds,
+        engine_seconds: engine.as_secs_f64(),
         steps,
         at_rest,
         overlap: overlap::resting(&placed, &scene.walls),

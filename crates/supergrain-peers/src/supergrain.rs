@@ -164,16 +164,20 @@ pub fn pour(scene: &Scene, threads: usize, rest: &Rest) -> PourTiming {
     let mut calm = RestCounter::default();
     pool(threads).install(|| {
         let start = Instant::now();
+        let mut engine = std::time::Duration::ZERO;
         let mut steps = 0;
         let mut at_rest = false;
         while steps < rest.max_steps && !at_rest {
+            let stepping = Instant::now();
             world.step();
+            engine += stepping.elapsed();
             steps += 1;
             at_rest = calm.after_step(&rest.criterion(), &world);
         }
         PourTiming {
             grains,
             seconds: start.elapsed().as_secs_f64(),
+            engine_seconds: engine.as_secs_f64(),
             steps,
             at_rest,
             overlap: resting(&world),

@@ -464,6 +464,7 @@ fn the_seeds_pours_give_their_medians() {
     let t = |seconds: f64, steps: u64, at_rest: bool| run::PourTiming {
         grains: 1000,
         seconds,
+        engine_seconds: seconds,
         steps,
         at_rest,
         overlap: None,
