@@ -566,7 +566,7 @@ pub fn run(args: Args) -> Result<ExitCode> {
         for m in &world.measures {
             eprintln!("{}", m.summary(&world));
         }
-        let time = world.step as f64 * world.settings.step;
+        let time = world.time();
         for (k, s) in world.sinks.iter().enumerate() {
             eprintln!(
                 "sink {}: {} grains have left (mass {}){}, {} per second over the run's {} s",

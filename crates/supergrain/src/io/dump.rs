@@ -331,6 +331,10 @@ pub struct Dump {
     /// The boundaries besides the box's walls, in order (a polyline as its segments).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub boundaries: Vec<BoundarySpec>,
+    /// Where the clock restarted when the time step changed, `[step, time]`
+    /// ([`World::clock`]); absent: never, the time is the steps times the step.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clock: Option<(u64, f64)>,
     /// The soft step's contacts kept for the next step.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactJson>,
@@ -488,6 +492,7 @@ impl Dump {
             wall_material: (s.model == Model::Soft).then(|| (&world.wall_material).into()),
             planes: Vec::new(),
             // Each at step 0, with its drive: where it is now follows from the step.
+            clock: (world.clock != (0, 0.0)).then_some(world.clock),
             boundaries: world
                 .bases
                 .iter()
@@ -971,6 +976,16 @@ impl Dump {
             world.bases.push(boundary);
             world.drives.push(drive);
             world.boundaries.push(boundary);
+        }
+        if let Some((at, time)) = self.clock {
+            if at > self.step || !time.is_finite() || time < 0.0 {
+                return Err(DumpError::Solver(format!(
+                    "clock: [{at}, {time}] must be a step no later than the dump's ({}) and a \
+                     finite time, 0 or more",
+                    self.step
+                )));
+            }
+            world.clock = (at, time);
         }
         world.place_boundaries();
         for (k, m) in self.measures.iter().enumerate() {

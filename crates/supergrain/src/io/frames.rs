@@ -25,7 +25,7 @@ pub fn trajectory_header(world: &World) -> String {
 /// Appends one frame of the trajectory: a row per grain, `id` its [`crate::body::BodyId`] (its
 /// order of appearance, never reused when grains leave; the columns of [`trajectory_header`]).
 pub fn write_trajectory_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
-    let time = world.step as f64 * world.settings.step;
+    let time = world.time();
     let soft = world.settings.model == Model::Soft;
     for (i, b) in world.bodies.iter().enumerate() {
         let v = world.velocity(i);
@@ -163,7 +163,7 @@ pub const FORCES_HEADER: &str = "step,time,a,b,wall,x,y,nx,ny,normal_force,tange
 /// 0 left, 1 right, 2 floor, then the planes), point, normal from A to B, and the normal and
 /// tangential force on B.
 pub fn write_forces_frame(world: &World, out: &mut impl Write) -> io::Result<()> {
-    let time = world.step as f64 * world.settings.step;
+    let time = world.time();
     let id = |i: usize| world.bodies[i].id.to_string();
     for f in &world.soft.forces {
         let (a, b, wall) = match f.wall {

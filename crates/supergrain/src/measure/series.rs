@@ -101,7 +101,7 @@ impl Series {
 
     /// The rows of `world` now.
     pub fn write_rows(&self, world: &World, out: &mut impl Write) -> io::Result<()> {
-        let (step, time) = (world.step, world.step as f64 * world.settings.step);
+        let (step, time) = (world.step, world.time());
         match self.kind {
             SeriesKind::Discharge => {
                 let in_box = world.bodies.iter().filter(|b| !b.is_static()).count();

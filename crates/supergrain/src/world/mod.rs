@@ -50,6 +50,9 @@ pub struct World {
     /// at any step is a closed form of that ([`Drive::place`]).
     pub drives: Vec<Drive>,
     pub bases: Vec<Boundary>,
+    /// The time at step `.0` was `.1`: the clock restarts there when the time step changes
+    /// ([`World::set_step`]), so that time runs on without a jump. `(0, 0.0)` until then.
+    pub clock: (u64, f64),
     /// The soft step's contacts kept from step to step, and its buffers.
     pub soft: SoftWorkspace,
     /// The id the next body to join gets ([`BodyId`]: never given twice).
@@ -92,6 +95,7 @@ impl World {
             boundaries: scene.boundaries.clone(),
             drives: scene.drives.clone(),
             bases: scene.boundaries.clone(),
+            clock: (0, 0.0),
             soft: SoftWorkspace::default(),
             next_id: BodyId(0),
             sinks: scene.sinks.clone(),
@@ -140,6 +144,7 @@ impl World {
             boundaries: Vec::new(),
             drives: Vec::new(),
             bases: Vec::new(),
+            clock: (0, 0.0),
             soft: SoftWorkspace::default(),
             next_id,
             sinks: Vec::new(),
@@ -335,11 +340,10 @@ impl World {
 
     /// A new time step, every grain keeping its velocity: the paper model's Verlet keeps a
     /// velocity as `(x - x_prev) / h`, so each previous pose is moved to match the new step;
-    /// the soft model keeps velocities as they are. Driven boundaries are placed by the time,
-    /// steps done times the step: a new step moves them at once to where that clock puts them
-    /// (a turning drum, whose shape a turn does not change, only changes speed; a tumbler or a
-    /// shaken floor jumps). Not yet mended: the dump would have to keep the clock.
+    /// the soft model keeps velocities as they are. The clock goes on from the time reached
+    /// ([`World::clock`]), so driven boundaries go on from where they are.
     pub fn set_step(&mut self, step: f64) {
+        self.clock = (self.step, self.time());
         let ratio = step / self.settings.step;
         if ratio != 1.0 {
             for b in &mut self.bodies {
@@ -350,9 +354,10 @@ impl World {
         self.settings.step = step;
     }
 
-    /// The simulated time: steps done times the step.
+    /// The simulated time: the clock's time, and the steps done since times the step.
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.settings.step
+        let (at, time) = self.clock;
+        time + self.step.saturating_sub(at) as f64 * self.settings.step
     }
 
     /// The grains in a sink leave (the first sink in order that holds a grain's centre counts
