@@ -337,3 +337,35 @@ fn a_slop_deeper_than_half_a_grain_is_refused() {
     d["solver"]["slop"] = json!(1.0);
     assert!(refused_dump(&d).contains("slop"));
 }
+
+/// Boundaries are the soft model's: a dump of the paper's model that holds one is refused, not
+/// run with the boundary silently left out; a bad boundary in a dump is refused naming it.
+#[test]
+fn a_dumps_boundaries_are_checked_and_the_paper_model_refuses_them() {
+    let mut d = soft_dump();
+    d["boundaries"] = json!([{"segment": [[-1.0, 1.0], [1.0, 1.5]], "thickness": 0.1}]);
+    assert!(to_world(&d).is_ok());
+    let mut paper = d.clone();
+    paper["solver"]["model"] = json!("paper");
+    // The soft step's other parts out, so that the boundary is what is refused.
+    let solver = paper["solver"].as_object_mut().unwrap();
+    solver.remove("sleep_islands");
+    solver.remove("soft");
+    for key in ["materials", "wall_material", "contacts"] {
+        paper.as_object_mut().unwrap().remove(key);
+    }
+    let e = refused_dump(&paper);
+    assert!(
+        e.contains("boundaries[0]") && e.contains("soft model"),
+        "{e}"
+    );
+    d["boundaries"] = json!([{"segment": [[-1.0, 1.0], [1.0, 1.5]]}]);
+    let e = refused_dump(&d);
+    assert!(
+        e.contains("boundaries[0]") && e.contains("needs a thickness"),
+        "{e}"
+    );
+    d["boundaries"] = json!([{"segment": [[-1.0, 1.0], [1.0, 1.5]], "thickness": 0.1, "clock": 3}]);
+    let e = refused_dump(&d);
+    assert!(e.contains("clock"), "{e}");
+}

@@ -955,6 +955,13 @@ impl Dump {
                 Drive::from_spec(spec).map_err(|e| DumpError::Walls(format!("{name}: {e}")))?;
             boundaries.extend(pieces.into_iter().map(|b| (name.clone(), b, drive)));
         }
+        if !boundaries.is_empty() && world.settings.model != Model::Soft {
+            return Err(DumpError::Walls(format!(
+                "{}: boundaries are the soft model's (\"model\": \"soft\"); the paper's \
+                 projection has the box alone",
+                boundaries[0].0
+            )));
+        }
         if boundaries.len() + 3 > MAX_WALLS {
             return Err(DumpError::Walls(format!(
                 "at most {} boundaries, got {}",
