@@ -55,9 +55,17 @@ fn silo(nd: f64) -> World {
 /// Grains in the box (fixed ones aside) above which the fill is at least the silo's width.
 const FULL: usize = 1700;
 
-/// The silo of `nd` diameters run while it is full: `(time, grains taken)` every 100 steps
-/// from the first second on (the lattice settles in it), grains conserved at every step.
-fn discharge(nd: f64) -> Vec<(f64, f64)> {
+/// Rows (of 50 steps) over which fewer than [`JAM_GRAINS`] leaving, the silo still full, make a
+/// jam: an arch held over the orifice, or a trickle through a gap in it (at a few grain
+/// diameters a silo clogs by chance: a change of rounding that changed no physics once made
+/// the 5 d run fall from 46 grains a second to 2, halfway).
+const JAM_ROWS: usize = 8;
+const JAM_GRAINS: f64 = 10.0;
+
+/// The silo of `nd` diameters run while it is full: `(time, grains taken)` every 50 steps
+/// from the first second on (the lattice settles in it), grains conserved at every step; and
+/// whether it jammed (the rows then end where the jam began).
+fn discharge(nd: f64) -> (Vec<(f64, f64)>, bool) {
     let mut w = silo(nd);
     let mut rows = Vec::new();
     loop {
@@ -75,9 +83,14 @@ fn discharge(nd: f64) -> Vec<(f64, f64)> {
         }
         if w.step >= 200 && w.step.is_multiple_of(50) {
             rows.push((w.step as f64 * 0.005, taken as f64));
+            let n = rows.len();
+            if n > JAM_ROWS && rows[n - 1].1 - rows[n - 1 - JAM_ROWS].1 < JAM_GRAINS {
+                rows.truncate(n - JAM_ROWS);
+                return (rows, true);
+            }
         }
     }
-    rows
+    (rows, false)
 }
 
 fn line(points: &[(f64, f64)]) -> (f64, f64) {
@@ -95,9 +108,22 @@ fn line(points: &[(f64, f64)]) -> (f64, f64) {
 fn a_silo_discharges_at_beverloos_rate() {
     let widths = [5.0, 6.0, 8.0, 10.0, 12.0, 15.0];
     use rayon::prelude::*;
-    let runs: Vec<Vec<(f64, f64)>> = widths.par_iter().map(|&nd| discharge(nd)).collect();
+    let runs: Vec<(Vec<(f64, f64)>, bool)> = widths.par_iter().map(|&nd| discharge(nd)).collect();
     let mut rates = Vec::new();
-    for (nd, rows) in widths.into_iter().zip(runs) {
+    // A jam is physics, not a failure: at most one width may jam, one of the two smallest
+    // (where clogging is likely); its rate while it flowed is fitted, and its fill is not
+    // compared (it stopped).
+    let jammed: Vec<f64> = widths
+        .iter()
+        .zip(&runs)
+        .filter(|(_, r)| r.1)
+        .map(|(&nd, _)| nd)
+        .collect();
+    assert!(
+        jammed.len() <= 1 && jammed.iter().all(|&nd| nd <= 6.0),
+        "jammed at {jammed:?} grain diameters"
+    );
+    for (nd, (rows, jam)) in widths.into_iter().zip(runs) {
         assert!(
             rows.len() >= 8,
             "D = {nd} d: {} rows while full",
@@ -109,13 +135,14 @@ fn a_silo_discharges_at_beverloos_rate() {
         let half = rows.len() / 2;
         let (early, late) = (line(&rows[..=half]).0, line(&rows[half..]).0);
         println!(
-            "D = {nd} d: {w} grains/s ({early} then {late}), {} rows",
-            rows.len()
+            "D = {nd} d: {w} grains/s ({early} then {late}), {} rows{}",
+            rows.len(),
+            if jam { ", then jammed" } else { "" }
         );
         // (Not at 15 d: the silo is only 2.7 orifices wide, and the rate falls by 14% as it
         // empties.)
         assert!(
-            nd > 12.0 || (early - late).abs() <= 0.10 * w,
+            nd > 12.0 || jam || (early - late).abs() <= 0.10 * w,
             "D = {nd} d: {early} grains/s while fuller, {late} after"
         );
         rates.push((nd, w));
