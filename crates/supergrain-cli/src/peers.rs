@@ -70,7 +70,8 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "both")]
     shapes: ShapesArg,
     /// Engines, each run in turn [default: supergrain,soft,box2d,rapier; bidisperse:
-    /// soft,soft-stiff,box2d,rapier; repose: soft,box2d, the two with rolling resistance].
+    /// soft,soft-stiff,box2d,rapier; repose: soft,box2d, the two with rolling resistance;
+    /// drum and tumbler: always soft and box2d, not to be changed].
     #[arg(long, value_enum, value_delimiter = ',')]
     engines: Option<Vec<EngineArg>>,
     /// Heap: timed steps per repetition [default: 100; tumbler: 600, from the start].
@@ -162,6 +163,12 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
     });
     if args.scene == SceneArg::Repose {
         return repose(&args, engines, threads);
+    }
+    if matches!(args.scene, SceneArg::Drum | SceneArg::Tumbler) && args.engines.is_some() {
+        anyhow::bail!(
+            "--engines: --scene drum and --scene tumbler always run supergrain's soft step and \
+             Box2D side by side (a gap or a ratio needs both)"
+        );
     }
     if args.scene == SceneArg::Drum {
         return drum(&args);
