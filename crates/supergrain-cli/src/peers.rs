@@ -640,11 +640,7 @@ fn drum(args: &Args) -> Result<ExitCode> {
                 })
             })
             .collect();
-        if args.csv {
-            return crate::bench::print_csv(&rows);
-        }
-        outln!("{}", serde_json::json!({ "runs": rows }));
-        return Ok(ExitCode::SUCCESS);
+        return print_runs(args, &rows);
     }
     outln!(
         "{:>10} {:>6} {:>16} {:>10} {:>6}",
@@ -710,11 +706,7 @@ fn tumbler(args: &Args, threads: Option<u16>) -> Result<ExitCode> {
                 })
             })
             .collect();
-        if args.csv {
-            return crate::bench::print_csv(&rows);
-        }
-        outln!("{}", serde_json::json!({ "runs": rows }));
-        return Ok(ExitCode::SUCCESS);
+        return print_runs(args, &rows);
     }
     outln!(
         "{:>8} {:>22} {:>16} {:>8}",
@@ -736,5 +728,15 @@ fn tumbler(args: &Args, threads: Option<u16>) -> Result<ExitCode> {
          0.25 (supergrain: superellipses of exponent {TUMBLER_EXPONENT}), a box 19 wide inside \
          turning at 25 degrees per second, 60 Hz, 4 substeps"
     );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--csv` or `--json` of a drum's or a tumbler's rows: CSV, or `{"runs": [...]}`.
+#[cfg(feature = "peers")]
+fn print_runs(args: &Args, rows: &[serde_json::Value]) -> Result<ExitCode> {
+    if args.csv {
+        return crate::bench::print_csv(rows);
+    }
+    outln!("{}", serde_json::json!({ "runs": rows }));
     Ok(ExitCode::SUCCESS)
 }

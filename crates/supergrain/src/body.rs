@@ -365,15 +365,15 @@ impl Drive {
     /// Its motion over the step from `t` to `t + h`, for the solver: the shake's mean velocity
     /// (so that the substeps end where [`Self::place`] puts it), the turn's rate, and the
     /// belt's speed as a velocity of the surface ([`WallMotion`], about the pivot at `t + h`).
-    pub fn motion(&self, base: &Boundary, t: f64, h: f64) -> WallMotion {
+    /// `now`: the boundary where [`Self::place`] puts it at `t + h`.
+    pub fn motion(&self, now: &Boundary, t: f64, h: f64) -> WallMotion {
         if self.is_still() {
             return WallMotion::default();
         }
-        let now = self.place(base, t + h);
         let mut v = (self.offset(t + h) - self.offset(t)) * (1.0 / h);
         let mut w = self.turn.map_or(0.0, |(_, rate)| rate.to_radians());
         let pivot = self.turn.map_or(Vec2::ZERO, |(p, _)| p) + self.offset(t + h);
-        match now {
+        match *now {
             Boundary::Segment { a, b, .. } => {
                 v += (b - a).direction().unwrap_or(Vec2::ZERO) * self.belt;
             }

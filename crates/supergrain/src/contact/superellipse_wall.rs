@@ -1,6 +1,6 @@
 use super::certified;
 use super::spikes::spike_witness;
-use super::superellipse_superellipse::deeper;
+use super::superellipse_superellipse::{deeper, world_slack};
 use super::{WallContact, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
 use crate::interval::PlacedSuperellipse;
@@ -137,18 +137,14 @@ pub fn contact_boundary(
             if depth <= pad {
                 return none;
             }
-            // Where the disk reaches past a thick segment's or arc's middle line, that line's
-            // point is its deepest (the whole half-thickness in), and the push still takes the
-            // disk out on its centre's side.
+            // Where the disk reaches past a thick segment's or arc's middle line (`g + h` from
+            // its centre), that line's point is its deepest (the whole half-thickness in), and
+            // the push still takes the disk out on its centre's side.
             let n = boundary.normal(c);
-            let past = boundary.half_thickness().is_some_and(|h| depth > h);
+            let reach = boundary.half_thickness().map_or(r, |h| r.min(g + h));
             return WallContact {
                 penetration: Some(WallPenetration {
-                    deepest: c - n * if past {
-                        r - depth + boundary.half_thickness().unwrap_or(0.0)
-                    } else {
-                        r
-                    },
+                    deepest: c - n * reach,
                     push: n * depth,
                 }),
                 cells: 0,
@@ -170,7 +166,7 @@ pub fn contact_boundary(
     let found = deepest_points(&placed, boundary, &region, precision, false, &mut ());
     // Spikes thinner than a cell, along the half-axes, as for grain pairs
     // ([`super::spikes`]): "apart" then means no point more than four final cells in.
-    let slack = 8.0 * f64::EPSILON * (c.norm() + region.min.norm().max(region.max.norm()));
+    let slack = world_slack(pose, &region);
     let cell = precision.cell_size(&region);
     let deepest = deeper(
         found.in_a,

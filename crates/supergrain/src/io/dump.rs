@@ -811,20 +811,19 @@ impl Dump {
             )));
         }
         // Where the queue's grains appear across.
-        let walls_box = walls;
-        let walls = crate::world::narrowed(&walls_box, between);
+        let source = crate::world::narrowed(&walls, between);
         for (index, p) in waiting.iter().enumerate() {
             let what = if old {
                 format!("pending grain {index}")
             } else {
                 format!("queue: waiting grain {index}")
             };
-            checks::check_fits(&walls, top, p.shape.bounding_radius(), &what)
+            checks::check_fits(&source, top, p.shape.bounding_radius(), &what)
                 .map_err(DumpError::Unworkable)?;
             // Drawn, its box is between the walls; as a particle's, a little beyond is let be.
             let pose = Pose::new(Vec2::new(p.x, top), p.angle)
                 .map_err(|e| DumpError::Unworkable(format!("{what}: {e}")))?;
-            let outside = checks::depth_outside(&walls, &p.shape.bounding_box(&pose));
+            let outside = checks::depth_outside(&source, &p.shape.bounding_box(&pose));
             if outside > checks::DEPTH_FRACTION * p.shape.min_semi_axis() {
                 return Err(DumpError::Unworkable(format!(
                     "{what}: x = {} puts it {outside:.3e} beyond the walls (left {}, right {}), \
@@ -837,7 +836,7 @@ impl Dump {
             }
         }
         let generator = match self.queue.as_ref().and_then(|q| q.generator.as_ref()) {
-            Some(g) => generator_of(g, &walls, top)?,
+            Some(g) => generator_of(g, &source, top)?,
             None => None,
         };
         let fair = self
@@ -850,7 +849,6 @@ impl Dump {
                 tries: f.tries,
             });
         let pending = Queue::from_parts(waiting, generator, fair, between);
-        let walls = walls_box;
         let smallest = bodies
             .iter()
             .map(|b| b.shape.min_semi_axis())

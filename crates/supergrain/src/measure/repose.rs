@@ -246,7 +246,7 @@ pub fn surface(disks: &[Disk], floor: f64, bin: f64) -> Vec<Vec2> {
 }
 
 /// The least-squares slope of `y` over `x`.
-fn slope(points: &[Vec2]) -> f64 {
+pub(crate) fn slope(points: &[Vec2]) -> f64 {
     let n = points.len() as f64;
     let (mx, my) = (
         points.iter().map(|p| p.x).sum::<f64>() / n,

@@ -336,23 +336,17 @@ pub fn surface_line(boxes: &[Aabb]) -> Option<(f64, usize)> {
         let k = (((x - lo) / bin) as usize).min(bins.saturating_sub(1));
         tops[k] = tops[k].max(b.max.y);
     }
-    let points: Vec<(f64, f64)> = tops
+    let points: Vec<Vec2> = tops
         .iter()
         .enumerate()
         .filter(|(_, t)| t.is_finite())
-        .map(|(k, &t)| (lo + (k as f64 + 0.5) * bin, t))
+        .map(|(k, &t)| Vec2::new(lo + (k as f64 + 0.5) * bin, t))
         .collect();
     if points.len() < 3 {
         return None;
     }
-    let n = points.len() as f64;
-    let (mx, my) = (
-        points.iter().map(|p| p.0).sum::<f64>() / n,
-        points.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = points.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    Some(((sxy / sxx).atan().to_degrees(), points.len()))
+    let slope = super::repose::slope(&points);
+    Some((slope.atan().to_degrees(), points.len()))
 }
 
 /// The dynamic grains, and their translational and rotational kinetic energies.

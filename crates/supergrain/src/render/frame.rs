@@ -218,8 +218,7 @@ const FORCE_WIDTH: f32 = 7.0;
 /// last step's forces, or, for a world read from a dump, from the impulses its contacts kept.
 fn draw_forces(world: &World, pixmap: &mut Pixmap, pen: &mut Pen) {
     let colour = [0xb7, 0x1c, 0x1c, 230];
-    let mut walls = world.walls.boundaries().to_vec();
-    walls.extend_from_slice(&world.boundaries);
+    let walls = world.all_walls();
     let mut chains: Vec<(Vec2, Vec2, f64)> = Vec::new();
     let line = |i: usize, j: usize, f: f64, chains: &mut Vec<(Vec2, Vec2, f64)>| {
         let from = world.bodies[i].center;

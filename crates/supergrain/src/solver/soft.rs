@@ -538,39 +538,31 @@ struct State<'a> {
     solids: &'a mut [Solid],
 }
 
+/// Record `i` is a grain's, or a wall's past them ([`Constraint::slot_a`]).
 impl State<'_> {
-    /// The record `i`: a grain's, or a wall's past them ([`Constraint::slot_a`]).
-    #[inline(always)]
-    fn slot(&self, i: usize) -> usize {
-        debug_assert!(i < self.solids.len(), "record {i} of {}", self.solids.len());
-        i
-    }
-
     #[inline(always)]
     fn velocity(&self, i: usize) -> (Vec2, f64) {
-        let s = &self.solids[self.slot(i)];
+        let s = &self.solids[i];
         (s.v, s.w)
     }
 
     /// How far the point `r` (from grain `i`'s start centre) has moved since the step's start.
     #[inline(always)]
     fn moved(&self, i: usize, r: Vec2) -> Vec2 {
-        let s = &self.solids[self.slot(i)];
+        let s = &self.solids[i];
         s.shift + s.turn.apply(r) - r
     }
 
     #[inline(always)]
     fn apply(&mut self, i: usize, r: Vec2, impulse: Vec2, sign: f64) {
-        let k = self.slot(i);
-        let s = &mut self.solids[k];
+        let s = &mut self.solids[i];
         s.v += impulse * (sign * s.inv_mass);
         s.w += sign * s.inv_inertia * r.cross(impulse);
     }
 
     #[inline(always)]
     fn apply_angular(&mut self, i: usize, impulse: f64) {
-        let k = self.slot(i);
-        let s = &mut self.solids[k];
+        let s = &mut self.solids[i];
         s.w += s.inv_inertia * impulse;
     }
 }

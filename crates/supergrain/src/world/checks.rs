@@ -310,20 +310,7 @@ pub fn check_boundary(
     thinnest: f64,
 ) -> Result<(), String> {
     let (left, right) = (walls.left, walls.right);
-    let over = |low: f64| {
-        let band = Aabb::new(Vec2::new(left, low), Vec2::new(right, top));
-        match boundary.as_plane() {
-            // `g` is linear: its extremes over the band are at corners.
-            Some(plane) => {
-                let v = band.corners().map(|q| plane.value(q));
-                (
-                    v.iter().copied().fold(f64::INFINITY, f64::min),
-                    v.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-                )
-            }
-            None => boundary.enclose(&band),
-        }
-    };
+    let over = |low: f64| boundary.enclose(&Aabb::new(Vec2::new(left, low), Vec2::new(right, top)));
     match rule {
         SpawnRule::Queue => {
             if over(top).0 < largest {

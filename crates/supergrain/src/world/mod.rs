@@ -310,18 +310,14 @@ impl World {
             return Vec::new();
         }
         let (h, t) = (self.settings.step, self.time());
-        for ((now, base), drive) in self
-            .boundaries
+        self.boundaries
             .iter_mut()
             .zip(&self.bases)
             .zip(&self.drives)
-        {
-            *now = drive.place(base, t + h);
-        }
-        self.bases
-            .iter()
-            .zip(&self.drives)
-            .map(|(base, drive)| drive.motion(base, t, h))
+            .map(|((now, base), drive)| {
+                *now = drive.place(base, t + h);
+                drive.motion(now, t, h)
+            })
             .collect()
     }
 
@@ -352,6 +348,14 @@ impl World {
             }
         }
         self.settings.step = step;
+    }
+
+    /// Every wall in the order contacts name them: the box's left, right and floor, then the
+    /// boundaries.
+    pub fn all_walls(&self) -> Vec<Boundary> {
+        let mut walls = self.walls.boundaries().to_vec();
+        walls.extend_from_slice(&self.boundaries);
+        walls
     }
 
     /// The simulated time: the clock's time, and the steps done since times the step.
@@ -659,8 +663,7 @@ impl World {
     /// each grain `i` in turn, its contacts with the grains `j > i`, in increasing `j`, then with
     /// the walls. Pairs come from a grid, so this takes time linear in the number of grains.
     pub fn contacts(&self, mut f: impl FnMut(Touch)) {
-        let mut walls = self.walls.boundaries().to_vec();
-        walls.extend_from_slice(&self.boundaries);
+        let walls = self.all_walls();
         let narrow = self.settings.narrow();
         let boxes: Vec<Aabb> = self.bodies.iter().map(Body::bounding_box).collect();
         let mut grid = Grid::new();

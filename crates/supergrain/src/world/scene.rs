@@ -1006,15 +1006,13 @@ impl Scene {
                 .map_err(SceneError::Unworkable)?;
             checks::check_eps(&self.settings, smallest).map_err(SceneError::Unworkable)?;
             // (Only where grains are to appear at all.)
-            let appear = self.groups.iter().any(|g| g.count > 0);
-            for (boundary, name) in self.boundaries.iter().zip(&self.boundary_names) {
-                if !appear {
-                    break;
-                }
+            if self.groups.iter().any(|g| g.count > 0) {
                 let walls = &super::spawn::narrowed(&self.walls, self.spawn_between);
                 let rule = self.spawn_rule;
-                checks::check_boundary(boundary, name, walls, self.top, rule, radii, smallest)
-                    .map_err(SceneError::Unworkable)?;
+                for (boundary, name) in self.boundaries.iter().zip(&self.boundary_names) {
+                    checks::check_boundary(boundary, name, walls, self.top, rule, radii, smallest)
+                        .map_err(SceneError::Unworkable)?;
+                }
             }
         }
         Ok(())
