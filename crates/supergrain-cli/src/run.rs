@@ -17,7 +17,7 @@ use supergrain::io::{
 };
 use supergrain::measure::series::{Series, SeriesKind};
 use supergrain::render::{Style, render_world, world_region, world_svg};
-use supergrain::settings::Model;
+use supergrain::settings::{Model, Settings, SolverTable};
 use supergrain::world::checks::short;
 use supergrain::world::{PRESETS, Rest, RestCounter, Scene, World};
 
@@ -34,17 +34,6 @@ enum MeasureArg {
     /// The angle of one straight free surface (a drum's): a line through the highest grain of
     /// each bin across the middle 60% of the grains' width.
     Surface,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum NarrowPhaseArg {
-    /// Certified, any superellipse: Newton with a proof for convex pairs, a search of one
-    /// shape's boundary for stars, the quadtree where neither proves anything.
-    Interval,
-    /// The paper's certified quadtree alone, for every pair.
-    Quadtree,
-    /// Centre distance, circles only (the paper's comparison).
-    Analytic,
 }
 
 #[derive(Parser)]
@@ -79,9 +68,13 @@ pub struct Args {
     /// Seed of the random draws (shapes, angles, where grains appear) [default: the scene's].
     #[arg(long, conflicts_with = "resume")]
     seed: Option<u64>,
-    /// Override the scene's narrow phase.
-    #[arg(long, value_enum)]
-    narrow_phase: Option<NarrowPhaseArg>,
+    /// Override the scene's (or the dump's) narrow phase: interval (certified, any
+    /// superellipse: Newton with a proof for convex pairs, a search of one shape's boundary for
+    /// stars, the quadtree where neither proves anything), quadtree (the paper's certified
+    /// quadtree alone, for every pair) or analytic (centre distance, circles only: the paper's
+    /// comparison). The same as --set narrow_phase='"NAME"'.
+    #[arg(long, value_name = "NAME")]
+    narrow_phase: Option<String>,
     /// Override the scene's (or the dump's) sleep radius; 0 turns sleeping off and wakes every
     /// sleeper. A radius other than the dump's starts every grain's calm count afresh. The soft
     /// model sleeps by islands (touching grains together, their forces put in equilibrium as
@@ -97,6 +90,12 @@ pub struct Args {
     /// were carried (docs/physics.md).
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
     carry_reach: Option<f64>,
+    /// Override one of the scene's (or the dump's) [solver] keys, as the scene would write it
+    /// (repeatable): --set contact_hertz=30 --set substeps=8 --set narrow_phase='"quadtree"'.
+    /// Checked as the scene's are; the keys are listed in the README's scene reference. Not
+    /// `model` (a run's grains are built for it) nor `max_overlap` (set it in the scene).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
     /// Write the final state as JSON (restartable with --resume).
     #[arg(long, value_name = "FILE.json")]
     dump: Option<PathBuf>,
@@ -762,55 +761,93 @@ struct Every {
     frames: u64,
 }
 
-fn load(args: &Args) -> Result<(World, u64)> {
+/// The [solver] keys the command line overrides: `--set`, and the flags that are short for one
+/// key (`--narrow-phase`, `--sleep-radius`, `--carry-reach`), each checked as a scene's.
+fn overrides(args: &Args) -> Result<SolverTable> {
+    let mut table = SolverTable::default();
+    let mut one = |key: &str, value: &str, flag: &str| -> Result<()> {
+        let t = SolverTable::one(key, value).map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
+        table.merge(&t);
+        Ok(())
+    };
+    for kv in &args.set {
+        let Some((key, value)) = kv.split_once('=') else {
+            bail!("--set {kv}: expected KEY=VALUE (for example --set contact_hertz=30)");
+        };
+        one(key.trim(), value.trim(), &format!("--set {kv}"))?;
+    }
+    if let Some(n) = &args.narrow_phase {
+        one(
+            "narrow_phase",
+            &format!("{n:?}"),
+            &format!("--narrow-phase {n}"),
+        )?;
+    }
     // `+ 0.0`: -0 is 0 (and is written so in dumps).
-    let (sleep_radius, carry_reach) = (
-        args.sleep_radius.map(|r| r + 0.0),
-        args.carry_reach.map(|r| r + 0.0),
-    );
-    let narrow = args.narrow_phase.map(|n| match n {
-        NarrowPhaseArg::Interval => NarrowPhase::Interval,
-        NarrowPhaseArg::Quadtree => NarrowPhase::Quadtree,
-        NarrowPhaseArg::Analytic => NarrowPhase::Analytic,
-    });
+    if let Some(r) = args.sleep_radius {
+        one("sleep_radius", &(r + 0.0).to_string(), "--sleep-radius")?;
+    }
+    if let Some(r) = args.carry_reach {
+        one("carry_reach", &(r + 0.0).to_string(), "--carry-reach")?;
+    }
+    Ok(table)
+}
+
+fn load(args: &Args) -> Result<(World, u64)> {
+    let table = overrides(args)?;
     if let Some(path) = &args.resume {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read dump {}", path.display()))?;
         let mut dump = Dump::from_json(&text)
             .with_context(|| format!("{} is not a supergrain dump", path.display()))?;
-        // The radius is overridden before the dump is checked, so that `--sleep-radius 0` turns
+        // The keys are overridden before the dump is checked, so that `--sleep-radius 0` turns
         // off the sleeping of a dump whose `sleep_steps` is 0.
-        let before = dump.solver.as_ref().map(|s| s.sleep_radius);
-        if let (Some(r), Some(solver)) = (sleep_radius, dump.solver.as_mut()) {
-            if r > 0.0 && solver.sleep_steps == 0 {
+        let before = dump.solver.as_ref().and_then(|s| s.sleep_radius);
+        if table != SolverTable::default() {
+            let solver = dump
+                .solver
+                .get_or_insert_with(|| SolverTable::of(&Settings::default()));
+            if let Some(r) = table.sleep_radius
+                && r > 0.0
+                && table.sleep_steps.or(solver.sleep_steps).unwrap_or(0) == 0
+            {
                 bail!(
                     "--sleep-radius {}: the dump's sleep_steps is 0 (grains would freeze where \
                      they are); give --sleep-radius 0 or a dump with sleep_steps >= 1",
                     crate::number(r)
                 );
             }
-            solver.sleep_radius = r;
-        }
-        let mut world = dump
-            .to_world()
-            .with_context(|| format!("cannot resume from {}", path.display()))?;
-        if let Some(n) = narrow {
-            world.settings.narrow_phase = n;
-        }
-        if let Some(r) = carry_reach {
-            world.settings.soft.carry_reach = r;
-        }
-        if let Some(r) = sleep_radius {
-            world.settings.sleep_radius = r;
+            // A new step keeps the clock going on from where it stands (`World::set_step`).
+            let step = table.step;
+            let mut given = table.clone();
+            given.step = None;
+            solver.merge(&given);
+            let mut world = dump
+                .to_world()
+                .with_context(|| format!("cannot resume from {}", path.display()))?;
+            if let Some(h) = step {
+                world.set_step(h);
+                // Checked as a dump of the new step would be (one too long for the grains).
+                Dump::of(&world).to_world().with_context(|| {
+                    format!("--set step={h}: cannot resume from {}", path.display())
+                })?;
+            }
             // A new radius starts every grain's calm afresh: the counts and anchors of the
             // old rule would put grains back to sleep at once, falling or not.
-            if before != Some(r) {
+            if let Some(r) = table.sleep_radius
+                && before != Some(r)
+            {
                 for b in &mut world.bodies {
                     b.calm = 0;
                     b.anchor = b.center;
                 }
             }
+            check_analytic(&world)?;
+            return Ok((world, 1000));
         }
+        let world = dump
+            .to_world()
+            .with_context(|| format!("cannot resume from {}", path.display()))?;
         check_analytic(&world)?;
         return Ok((world, 1000));
     }
@@ -838,22 +875,20 @@ fn load(args: &Args) -> Result<(World, u64)> {
     if let Some(seed) = args.seed {
         scene.seed = seed;
     }
-    if let Some(n) = narrow {
-        scene.settings.narrow_phase = n;
+    if let Some(r) = table.sleep_radius
+        && r > 0.0
+        && table.sleep_steps.unwrap_or(scene.settings.sleep_steps) == 0
+    {
+        bail!(
+            "--sleep-radius {}: the scene's sleep_steps is 0 (grains would freeze where they \
+             appear); give --sleep-radius 0 or set sleep_steps >= 1 in the scene",
+            crate::number(r)
+        );
     }
-    if let Some(r) = carry_reach {
-        scene.settings.soft.carry_reach = r;
-    }
-    if let Some(r) = sleep_radius {
-        if r > 0.0 && scene.settings.sleep_steps == 0 {
-            bail!(
-                "--sleep-radius {}: the scene's sleep_steps is 0 (grains would freeze where they \
-                 appear); give --sleep-radius 0 or set sleep_steps >= 1 in the scene",
-                crate::number(r)
-            );
-        }
-        scene.settings.sleep_radius = r;
-    }
+    table
+        .apply(&mut scene.settings)
+        .and_then(|()| scene.settings.validate())
+        .map_err(|e| anyhow::anyhow!("the command line's solver settings: {e}"))?;
     scene.validate()?;
     let steps = scene.steps;
     Ok((World::new(&scene), steps))

@@ -714,3 +714,86 @@ fn the_summary_gives_the_overlaps_the_dump_has() {
         "summary largest {largest}, disks {geometric_largest}: {line}"
     );
 }
+
+/// `--set KEY=VALUE` overrides any `[solver]` key: a scene run with `--set contact_hertz=30
+/// --set substeps=8` is, bit for bit, the scene that says so; on a resumed dump a new step
+/// keeps the clock going from where it stood; nonsense is refused, naming the key, with
+/// nothing written.
+#[test]
+fn set_overrides_a_solver_key_as_the_scene_would() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = write_scene(dir.path(), "plain.toml", SCENE);
+    let said = write_scene(
+        dir.path(),
+        "said.toml",
+        &SCENE.replace(
+            "model = \"soft\"",
+            "model = \"soft\"\ncontact_hertz = 30.0\nsubsteps = 8\nnarrow_phase = \"quadtree\"",
+        ),
+    );
+    let run = |args: &[&str], out: &str| {
+        let dump = dir.path().join(out);
+        let mut all = args.to_vec();
+        all.extend_from_slice(&["--steps", "200", "--dump", p(&dump), "-q"]);
+        ok(&sg(&all));
+        std::fs::read_to_string(&dump).unwrap()
+    };
+    let from_shell = run(
+        &[
+            "run",
+            p(&plain),
+            "--set",
+            "contact_hertz=30",
+            "--set",
+            "substeps = 8",
+            "--set",
+            "narrow_phase=quadtree",
+        ],
+        "a.json",
+    );
+    let from_scene = run(&["run", p(&said)], "b.json");
+    assert_eq!(from_shell, from_scene);
+    let d: serde_json::Value = serde_json::from_str(&from_shell).unwrap();
+    assert_eq!(d["solver"]["contact_hertz"], 30.0);
+    assert_eq!(d["solver"]["substeps"], 8);
+    // Resumed at half the step: the clock goes on from 200 steps of 0.01.
+    let a = dir.path().join("a.json");
+    let later = run(&["run", "--resume", p(&a), "--set", "step=0.005"], "c.json");
+    let d: serde_json::Value = serde_json::from_str(&later).unwrap();
+    assert_eq!(d["solver"]["step"], 0.005);
+    assert_eq!(d["step"], 400);
+    assert_eq!(d["clock"], serde_json::json!([200, 2.0]));
+    // Nonsense: named, exit 1, no dump.
+    let out = dir.path().join("never.json");
+    for (set, says) in [
+        ("contact_hertz=-3", "contact_hertz"),
+        ("substeps=0", "substeps must be 1 to 64"),
+        ("contact_herz=30", "no solver key `contact_herz`"),
+        ("model=paper", "model is the scene's"),
+        ("contact_hertz", "expected KEY=VALUE"),
+        ("sleep_islands=true", "sleep_islands"),
+    ] {
+        let scene = if set.starts_with("sleep_islands") {
+            write_scene(
+                dir.path(),
+                "paper.toml",
+                &SCENE
+                    .replace("model = \"soft\"", "model = \"paper\"")
+                    .replace("friction = 0.5\n", ""),
+            )
+        } else {
+            plain.clone()
+        };
+        let err = failed(&sg(&[
+            "run",
+            p(&scene),
+            "--set",
+            set,
+            "--dump",
+            p(&out),
+            "-q",
+        ]));
+        assert!(err.contains(says), "--set {set}: {err}");
+        assert!(!out.exists(), "--set {set} wrote a dump");
+    }
+}

@@ -9,7 +9,9 @@ use eframe::egui::{
 use supergrain::body::Material;
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::render::cell_style;
+use supergrain::settings::Model;
 use supergrain::shape::{Pose, Superellipse};
+use supergrain::subdivision::Precision;
 use supergrain::world::MaterialOf;
 
 use crate::driver::{Driver, Meter};
@@ -143,7 +145,7 @@ type Edit<T> = Option<(T, u64)>;
 
 #[derive(Default)]
 struct Edits {
-    tuning: Edit<crate::sim::Tuning>,
+    settings: Edit<supergrain::settings::Settings>,
     materials: Edit<crate::sim::Materials>,
     spawn: Edit<crate::sim::Spawn>,
     overlays: Edit<crate::sim::Overlays>,
@@ -368,8 +370,8 @@ impl App {
 
         ui.separator();
         ui.heading("Solver");
-        if let Some(current) = snap.tuning {
-            let mut t = shown(&self.edits.tuning, snap.commands, current);
+        if let Some(current) = snap.settings {
+            let mut t = shown(&self.edits.settings, snap.commands, current);
             let before = t;
             ui.add(
                 egui::Slider::new(&mut t.step, 0.001..=0.05)
@@ -379,35 +381,40 @@ impl App {
             );
             // The panel follows the scene's model: the soft step's substeps, contact and drag;
             // the paper's projection's damping and passes.
-            match t.soft.as_mut() {
-                Some(soft) => soft_sliders(ui, soft),
-                None => {
+            match t.model {
+                Model::Soft => soft_sliders(ui, &mut t.soft),
+                Model::Paper => {
                     ui.add(
                         egui::Slider::new(&mut t.damping, 0.0..=0.99)
                             .clamping(egui::SliderClamping::Edits)
                             .text("damping"),
                     );
                     ui.add(
-                        egui::Slider::new(&mut t.iterations, 1..=MAX_ITERATIONS)
+                        egui::Slider::new(&mut t.max_iterations, 1..=MAX_ITERATIONS)
                             .clamping(egui::SliderClamping::Edits)
                             .text("iterations"),
                     );
                 }
             }
+            let (mut depth, mut eps) = (t.precision.depth(), t.precision.eps());
             ui.add(
-                egui::Slider::new(&mut t.depth, 1..=MAX_DEPTH)
+                egui::Slider::new(&mut depth, 1..=MAX_DEPTH)
                     .clamping(egui::SliderClamping::Edits)
                     .text("quadtree depth"),
             );
             ui.add(
-                egui::Slider::new(&mut t.eps, 0.0..=0.1)
+                egui::Slider::new(&mut eps, 0.0..=0.1)
                     .clamping(egui::SliderClamping::Edits)
                     .logarithmic(true)
                     .text("quadtree eps"),
             );
+            // (A slider's value is in range: the window's command refuses anything else.)
+            if let Ok(p) = Precision::new(depth, eps) {
+                t.precision = p;
+            }
             if t != before {
                 let n = self.send(Command::Tune(t));
-                self.edits.tuning = Some((t, n));
+                self.edits.settings = Some((t, n));
             }
         }
         if let Some(current) = &snap.materials {

@@ -7,9 +7,8 @@ use supergrain::contact::{Penetration, WallPenetration};
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::render::{Colouring, Style, render_world};
-use supergrain::settings::{Model, Settings, SoftSettings};
+use supergrain::settings::{Model, Settings};
 use supergrain::shape::{Pose, Superellipse};
-use supergrain::subdivision::Precision;
 use supergrain::world::{MaterialOf, PRESETS, Scene, Touch, World};
 
 use crate::explorer::{ClassedCell, classed_cells};
@@ -35,32 +34,6 @@ impl Source {
         match self {
             Source::Preset(name) => format!("preset {name}"),
             Source::File { name, .. } | Source::State { name, .. } => name.clone(),
-        }
-    }
-}
-
-/// The solver settings a user can change from the window, applied at once.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Tuning {
-    pub step: f64,
-    pub damping: f64,
-    pub iterations: u32,
-    pub depth: u32,
-    pub eps: f64,
-    /// The soft model's own settings (`None` under the paper's model, whose panel shows its
-    /// damping and iterations instead).
-    pub soft: Option<SoftSettings>,
-}
-
-impl Tuning {
-    pub fn of(s: &Settings) -> Tuning {
-        Tuning {
-            step: s.step,
-            damping: s.damping,
-            iterations: s.max_iterations,
-            depth: s.precision.depth(),
-            eps: s.precision.eps(),
-            soft: (s.model == Model::Soft).then_some(s.soft),
         }
     }
 }
@@ -129,7 +102,8 @@ pub enum Command {
         name: String,
         text: String,
     },
-    Tune(Tuning),
+    /// New solver settings (the scene's model kept), applied at once.
+    Tune(Settings),
     /// A group's material or the walls' (the soft model's), from the next step.
     Material(MaterialOf, Material),
     Spawn(Spawn),
@@ -165,7 +139,8 @@ pub struct Snapshot {
     pub step: u64,
     pub playing: bool,
     pub speed: u32,
-    pub tuning: Option<Tuning>,
+    /// The solver settings the sliders show.
+    pub settings: Option<Settings>,
     /// `None` for the paper's model, which has no materials.
     pub materials: Option<Materials>,
     pub spawn: Option<Spawn>,
@@ -397,32 +372,27 @@ impl Sim {
         self.message = None;
     }
 
-    fn tune(&mut self, t: Tuning) -> Result<(), String> {
-        let ok = t.step.is_finite()
-            && t.step > 0.0
-            && t.step <= 0.1
-            && (0.0..1.0).contains(&t.damping)
-            && (1..=MAX_ITERATIONS).contains(&t.iterations)
-            && t.depth <= MAX_DEPTH;
+    fn tune(&mut self, t: Settings) -> Result<(), String> {
+        if t.model != self.world.settings.model {
+            return Err(
+                "settings: the model is the scene's; open a scene of the other model".into(),
+            );
+        }
+        let ok = t.step <= 0.1
+            && (1..=MAX_ITERATIONS).contains(&t.max_iterations)
+            && t.precision.depth() <= MAX_DEPTH;
         if !ok {
             return Err(format!(
-                "settings: step in (0, 0.1], damping in [0, 1), iterations in 1..={MAX_ITERATIONS}, depth at most {MAX_DEPTH}; got {t:?}"
+                "settings: the window keeps step to 0.1, iterations to 1..={MAX_ITERATIONS}, \
+                 depth to {MAX_DEPTH}; got step {}, iterations {}, depth {}",
+                t.step,
+                t.max_iterations,
+                t.precision.depth()
             ));
         }
-        let precision = Precision::new(t.depth, t.eps).map_err(|e| e.to_string())?;
-        if let Some(soft) = &t.soft {
-            soft.validate().map_err(|e| format!("settings: {e}"))?;
-        }
+        t.validate().map_err(|e| format!("settings: {e}"))?;
         self.world.set_step(t.step);
-        let s = &mut self.world.settings;
-        s.damping = t.damping;
-        s.max_iterations = t.iterations;
-        s.precision = precision;
-        if let Some(soft) = t.soft
-            && s.model == Model::Soft
-        {
-            s.soft = soft;
-        }
+        self.world.settings = t;
         Ok(())
     }
 
@@ -575,7 +545,7 @@ impl Sim {
             step: world.step,
             playing: self.playing,
             speed: self.speed,
-            tuning: Some(Tuning::of(settings)),
+            settings: Some(*settings),
             materials: self.materials(),
             spawn: Some(Spawn {
                 interval: self.scene.spawn_interval,

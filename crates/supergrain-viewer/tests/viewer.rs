@@ -5,11 +5,13 @@ use supergrain::body::Material;
 use supergrain::contact::contact;
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
+use supergrain::settings::{Model, Settings, SoftSettings};
 use supergrain::shape::{Pose, Superellipse};
+use supergrain::subdivision::Precision;
 use supergrain::world::{MaterialOf, Scene, World};
 use supergrain_viewer::driver::Meter;
 use supergrain_viewer::explorer::{Explorer, Params};
-use supergrain_viewer::sim::{DropShape, Overlays, Tuning};
+use supergrain_viewer::sim::{DropShape, Overlays};
 use supergrain_viewer::{Command, Sim};
 
 /// A scene with no grains of its own: only what the tests drop.
@@ -198,33 +200,44 @@ fn a_bad_scene_keeps_the_current_one_and_names_the_line() {
 #[test]
 fn solver_sliders_apply_at_once_and_nonsense_is_refused() {
     let mut sim = Sim::preset("mixed").unwrap();
-    let t = Tuning {
+    let t = Settings {
         step: 0.005,
         damping: 0.4,
-        iterations: 4,
-        depth: 9,
-        eps: 0.001,
-        soft: None,
+        max_iterations: 4,
+        precision: Precision::new(9, 0.001).unwrap(),
+        ..sim.world.settings
     };
     sim.apply(Command::Tune(t));
-    assert_eq!(Tuning::of(&sim.world.settings), t);
+    assert_eq!(sim.world.settings, t);
     for bad in [
-        Tuning { iterations: 0, ..t },
-        Tuning { damping: 1.5, ..t },
-        Tuning {
+        Settings {
+            max_iterations: 0,
+            ..t
+        },
+        Settings { damping: 1.5, ..t },
+        Settings {
             step: f64::NAN,
             ..t
         },
-        Tuning { eps: -1.0, ..t },
-        Tuning { depth: 99, ..t },
+        Settings { step: 0.5, ..t },
+        Settings { gravity: -1.0, ..t },
+        Settings { slop: -1.0, ..t },
+        Settings {
+            model: Model::Soft,
+            ..t
+        },
+        Settings {
+            sleep_islands: true,
+            ..t
+        },
     ] {
         sim.apply(Command::Tune(bad));
-        assert_eq!(Tuning::of(&sim.world.settings), t, "{bad:?} was applied");
+        assert_eq!(sim.world.settings, t, "{bad:?} was applied");
         assert!(sim.message().is_some());
     }
     // Settings survive a reset.
     sim.apply(Command::Reset);
-    assert_eq!(Tuning::of(&sim.world.settings), t);
+    assert_eq!(sim.world.settings, t);
 }
 
 #[test]
@@ -445,9 +458,9 @@ fn a_new_time_step_keeps_every_grain_velocity() {
     let b = sim.world.bodies[0];
     let v = (b.center - b.previous_center) * (1.0 / h);
     assert!(v.y < -0.1, "falling: {v:?}");
-    let t = Tuning {
+    let t = Settings {
         step: h / 4.0,
-        ..Tuning::of(&sim.world.settings)
+        ..sim.world.settings
     };
     sim.apply(Command::Tune(t));
     let b = sim.world.bodies[0];
@@ -460,9 +473,9 @@ fn refusals_are_counted_said_and_change_nothing() {
     let mut sim = empty();
     let before = sim.snapshot().commands;
     // Damping 1 would stop nothing and cannot be saved (dumps need [0, 1)).
-    let t = Tuning {
+    let t = Settings {
         damping: 1.0,
-        ..Tuning::of(&sim.world.settings)
+        ..sim.world.settings
     };
     sim.apply(Command::Tune(t));
     assert!(sim.message().unwrap().contains("damping"));
@@ -732,20 +745,20 @@ fn a_friction_slider_sets_how_far_a_pushed_block_slides() {
 #[test]
 fn the_soft_panel_sets_the_soft_steps_settings() {
     let mut sim = soft_with(BALL, Vec2::new(0.0, 5.0));
-    let now = Tuning::of(&sim.world.settings);
-    let soft = now.soft.expect("the soft model's panel");
-    assert!(
-        Tuning::of(&Sim::preset("circles").unwrap().world.settings)
-            .soft
-            .is_none()
+    let now = sim.snapshot().settings.expect("the solver panel");
+    assert_eq!(
+        now.model,
+        Model::Soft,
+        "the panel shows the soft step's settings"
     );
+    let soft = now.soft;
     let c = 2.0;
-    let t = Tuning {
-        soft: Some(supergrain::settings::SoftSettings {
+    let t = Settings {
+        soft: SoftSettings {
             linear_damping: c,
             contact_hertz: 45.0,
             ..soft
-        }),
+        },
         ..now
     };
     sim.apply(Command::Tune(t));
@@ -764,23 +777,20 @@ fn the_soft_panel_sets_the_soft_steps_settings() {
         "falls at {v}, drag's closed form {want}"
     );
     for bad in [
-        supergrain::settings::SoftSettings {
+        SoftSettings {
             substeps: 0,
             ..soft
         },
-        supergrain::settings::SoftSettings {
+        SoftSettings {
             contact_hertz: f64::NAN,
             ..soft
         },
-        supergrain::settings::SoftSettings {
+        SoftSettings {
             linear_damping: -1.0,
             ..soft
         },
     ] {
-        sim.apply(Command::Tune(Tuning {
-            soft: Some(bad),
-            ..now
-        }));
+        sim.apply(Command::Tune(Settings { soft: bad, ..now }));
         assert!(sim.message().is_some(), "{bad:?} was taken");
         assert_eq!(sim.world.settings.soft.contact_hertz, 45.0);
     }

@@ -6,7 +6,7 @@
 use supergrain::body::{Body, Material, Walls};
 use supergrain::contact::NarrowPhase;
 use supergrain::geometry::Vec2;
-use supergrain::settings::{Model, Settings};
+use supergrain::settings::Settings;
 use supergrain::shape::{Boundary, HalfPlane, Pose, Superellipse};
 use supergrain::world::{Queue, World};
 
@@ -22,10 +22,9 @@ fn world(bodies: Vec<Body>, walls: Walls, materials: Vec<Material>, settings: Se
 
 fn soft() -> Settings {
     Settings {
-        model: Model::Soft,
         step: 1.0 / 60.0,
         sleep_radius: 0.0,
-        ..Settings::default()
+        ..Settings::soft()
     }
 }
 

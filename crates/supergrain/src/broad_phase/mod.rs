@@ -36,7 +36,8 @@ pub trait BroadPhase {
 
 /// Which broad phase a world uses; both give the same pairs in the same order, so the same
 /// results bit for bit.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Kind {
     /// [`Grid`].
     #[default]

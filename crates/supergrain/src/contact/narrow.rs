@@ -12,7 +12,8 @@ use crate::shape::{Boundary, Pose, Superellipse};
 use crate::subdivision::Precision;
 
 /// Which narrow phase answers grain-grain and grain-wall contact (a scene's `narrow_phase`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum NarrowPhase {
     /// Certified, for any superellipse: the certified Newton path for convex pairs, the
     /// quadtree whenever that path has no proof, and for stars.

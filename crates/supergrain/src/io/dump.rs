@@ -9,15 +9,13 @@ use serde::{Deserialize, Serialize};
 use super::ShapeJson;
 use crate::body::{Body, BodyId, BodyKind, Drive, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
-use crate::contact::NarrowPhase;
 use crate::contact::WarmStart;
 use crate::geometry::{Aabb, Vec2};
 use crate::measure::series::Series;
-use crate::settings::{Model, Rotation, Settings, SoftSettings};
+use crate::settings::{Model, Settings, SoftSettings, SolverTable};
 use crate::shape::{Boundary, BoundarySpec, HalfPlane, Pose, ShapeError, Superellipse};
 use crate::solver::carry::{Carried, CarriedParts};
 use crate::solver::soft::{Kept, MAX_WALLS, STATIC};
-use crate::subdivision::Precision;
 use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Sink, Touch, World, checks};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -140,23 +138,6 @@ pub struct PlaneJson {
     pub offset: f64,
 }
 
-/// The soft step's settings (see [`SoftSettings`]).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SoftJson {
-    pub substeps: u32,
-    pub contact_hertz: f64,
-    pub damping_ratio: f64,
-    pub push_out: f64,
-    pub restitution_threshold: f64,
-    pub slop: f64,
-    pub linear_damping: f64,
-    pub angular_damping: f64,
-    /// Absent (a dump written before contacts were carried): 0, none carried, as that code ran.
-    #[serde(default, skip_serializing_if = "is_zero_f64")]
-    pub carry_reach: f64,
-}
-
 /// A contact the soft step keeps from one step to the next: its impulses (the next step's
 /// warm start) and where the narrow phase found its deepest points, so that a resumed run goes
 /// on bit for bit.
@@ -259,45 +240,6 @@ pub struct GroupJson {
     pub angle: [f64; 2],
 }
 
-/// The solver settings, as in a scene file's `[solver]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SolverJson {
-    pub step: f64,
-    pub damping: f64,
-    pub gravity: f64,
-    pub max_iterations: u32,
-    pub slop: f64,
-    /// Absent in dumps older than sleeping: sleeping off.
-    #[serde(default)]
-    pub sleep_radius: f64,
-    #[serde(default)]
-    pub sleep_steps: u32,
-    /// Sleeping by islands; absent when off (and in dumps older than it).
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
-    pub sleep_islands: bool,
-    /// Absent in dumps older than shock propagation: the closing sweeps they were run with.
-    #[serde(default)]
-    pub shock_propagation: bool,
-    /// Absent in dumps older than strips: 0, the paper's order.
-    #[serde(default)]
-    pub strip_width: f64,
-    pub depth: u32,
-    pub eps: f64,
-    pub rotation: String,
-    pub narrow_phase: String,
-    /// "grid" or "all-pairs"; absent: "grid" (the results are the same).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub broad_phase: Option<String>,
-    /// "paper" or "soft"; absent (dumps before the key, which wrote it for the soft model
-    /// alone): "paper", unless the dump holds the soft step's parts (`soft`, `materials`,
-    /// `wall_material`, `planes`, `contacts`, `sleep_islands`), when it is refused.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub model: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub soft: Option<SoftJson>,
-}
-
 /// A whole dump.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -310,8 +252,12 @@ pub struct Dump {
     /// Height at which grains appear.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub top: Option<f64>,
+    /// The solver settings, as a scene's `[solver]` ([`SolverTable::of`]). Keys absent in
+    /// dumps older than them: sleeping off (`sleep_radius`, `sleep_steps` 0), by grain, no
+    /// shock propagation, no strips, the grid broad phase, contacts not carried; `model`
+    /// absent: the paper's, unless the dump holds the soft step's parts, when it is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solver: Option<SolverJson>,
+    pub solver: Option<SolverTable>,
     /// The grains still to appear; absent: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub queue: Option<QueueJson>,
@@ -425,61 +371,7 @@ impl Dump {
                 .collect(),
             step: world.step,
             top: Some(world.top),
-            solver: Some(SolverJson {
-                step: s.step,
-                damping: s.damping,
-                gravity: s.gravity,
-                max_iterations: s.max_iterations,
-                slop: s.slop,
-                sleep_radius: s.sleep_radius,
-                sleep_steps: s.sleep_steps,
-                sleep_islands: s.sleep_islands,
-                shock_propagation: s.shock_propagation,
-                strip_width: s.strip_width,
-                depth: s.precision.depth(),
-                eps: s.precision.eps(),
-                rotation: match s.rotation {
-                    Rotation::Projection => "projection",
-                    Rotation::Inertia => "inertia",
-                }
-                .into(),
-                narrow_phase: match s.narrow_phase {
-                    NarrowPhase::Interval => "interval",
-                    NarrowPhase::Quadtree => "quadtree",
-                    NarrowPhase::Analytic => "analytic",
-                }
-                .into(),
-                broad_phase: Some(
-                    match s.broad_phase {
-                        BroadPhaseKind::Grid => "grid",
-                        BroadPhaseKind::AllPairs => "all-pairs",
-                    }
-                    .into(),
-                ),
-                // Always written: a dump that does not say is refused when it holds the soft
-                // step's parts, and read as the paper's otherwise (dumps before the key).
-                model: Some(
-                    match s.model {
-                        Model::Paper => "paper",
-                        Model::Soft => "soft",
-                    }
-                    .into(),
-                ),
-                soft: (s.model == Model::Soft).then(|| {
-                    let k = &s.soft;
-                    SoftJson {
-                        substeps: k.substeps,
-                        contact_hertz: k.contact_hertz,
-                        damping_ratio: k.damping_ratio,
-                        push_out: k.push_out,
-                        restitution_threshold: k.restitution_threshold,
-                        slop: k.slop,
-                        linear_damping: k.linear_damping,
-                        angular_damping: k.angular_damping,
-                        carry_reach: k.carry_reach,
-                    }
-                }),
-            }),
+            solver: Some(SolverTable::of(s)),
             // Written empty too where a sink puts grains back: they appear by its rule.
             queue: (!world.pending.is_empty() || world.sinks.iter().any(|s| s.recycle))
                 .then(|| queue_json(&world.pending)),
@@ -529,10 +421,9 @@ impl Dump {
 
     /// The first of the soft step's parts the dump holds, by its key.
     fn soft_part(&self) -> Option<&'static str> {
-        let solver = self.solver.as_ref();
+        let solver = self.solver.as_ref().and_then(SolverTable::soft_key);
         [
-            ("soft", solver.is_some_and(|s| s.soft.is_some())),
-            ("sleep_islands", solver.is_some_and(|s| s.sleep_islands)),
+            (solver.unwrap_or(""), solver.is_some()),
             ("materials", !self.materials.is_empty()),
             ("wall_material", self.wall_material.is_some()),
             ("planes", !self.planes.is_empty()),
@@ -571,105 +462,20 @@ impl Dump {
         }
         let settings = match &self.solver {
             None => Settings::default(),
-            Some(s) => Settings {
-                step: positive("step", s.step)?,
-                damping: if (0.0..1.0).contains(&s.damping) {
-                    s.damping
-                } else {
+            Some(t) => {
+                if t.model.is_none()
+                    && let Some(part) = self.soft_part()
+                {
                     return Err(DumpError::Solver(format!(
-                        "damping must be in [0, 1), got {}",
-                        s.damping
+                        "model is missing, and the dump holds `{part}`, which only model \
+                         \"soft\" has: add \"model\": \"soft\" to \"solver\" (or \"paper\" \
+                         without the soft step's parts)"
                     )));
-                },
-                // As a scene's: down or none (a negative one pulled grains through the top).
-                gravity: non_negative("gravity", s.gravity)?,
-                max_iterations: s.max_iterations,
-                slop: non_negative("slop", s.slop)?,
-                sleep_radius: non_negative("sleep_radius", s.sleep_radius)?,
-                sleep_steps: s.sleep_steps,
-                sleep_islands: s.sleep_islands,
-                shock_propagation: s.shock_propagation,
-                strip_width: non_negative("strip_width", s.strip_width)?,
-                precision: Precision::new(s.depth, s.eps)
-                    .map_err(|e| DumpError::Solver(e.to_string()))?,
-                rotation: match s.rotation.as_str() {
-                    "projection" => Rotation::Projection,
-                    "inertia" => Rotation::Inertia,
-                    other => {
-                        return Err(DumpError::Solver(format!(
-                            "rotation must be projection or inertia, got {other}"
-                        )));
-                    }
-                },
-                narrow_phase: match s.narrow_phase.as_str() {
-                    "interval" => NarrowPhase::Interval,
-                    "quadtree" => NarrowPhase::Quadtree,
-                    "analytic" => NarrowPhase::Analytic,
-                    other => {
-                        return Err(DumpError::Solver(format!(
-                            "narrow_phase must be interval, quadtree or analytic, got {other}"
-                        )));
-                    }
-                },
-                broad_phase: match s.broad_phase.as_deref() {
-                    None | Some("grid") => BroadPhaseKind::Grid,
-                    Some("all-pairs") => BroadPhaseKind::AllPairs,
-                    Some(other) => {
-                        return Err(DumpError::Solver(format!(
-                            "broad_phase must be grid or all-pairs, got {other}"
-                        )));
-                    }
-                },
-                model: match s.model.as_deref() {
-                    None => {
-                        if let Some(part) = self.soft_part() {
-                            return Err(DumpError::Solver(format!(
-                                "model is missing, and the dump holds `{part}`, which only \
-                                 model \"soft\" has: add \"model\": \"soft\" to \"solver\" (or \
-                                 \"paper\" without the soft step's parts)"
-                            )));
-                        }
-                        Model::Paper
-                    }
-                    Some("paper") => Model::Paper,
-                    Some("soft") => Model::Soft,
-                    Some(other) => {
-                        return Err(DumpError::Solver(format!(
-                            "model must be paper or soft, got {other}"
-                        )));
-                    }
-                },
-                soft: match &s.soft {
-                    None => SoftSettings::default(),
-                    Some(k) => SoftSettings {
-                        substeps: if (1..=64).contains(&k.substeps) {
-                            k.substeps
-                        } else {
-                            return Err(DumpError::Solver(format!(
-                                "soft.substeps must be 1 to 64, got {}",
-                                k.substeps
-                            )));
-                        },
-                        contact_hertz: positive("soft.contact_hertz", k.contact_hertz)?,
-                        damping_ratio: non_negative("soft.damping_ratio", k.damping_ratio)?,
-                        push_out: positive("soft.push_out", k.push_out)?,
-                        restitution_threshold: non_negative(
-                            "soft.restitution_threshold",
-                            k.restitution_threshold,
-                        )?,
-                        slop: non_negative("soft.slop", k.slop)?,
-                        linear_damping: non_negative("soft.linear_damping", k.linear_damping)?,
-                        angular_damping: non_negative("soft.angular_damping", k.angular_damping)?,
-                        carry_reach: non_negative("soft.carry_reach", k.carry_reach)?,
-                    },
-                },
-            },
+                }
+                t.settings(Model::Paper, legacy_settings)
+                    .map_err(DumpError::Solver)?
+            }
         };
-        if settings.sleep_islands && settings.model != Model::Soft {
-            return Err(DumpError::Solver(
-                "sleep_islands needs model = soft (the paper's model sleeps grain by grain)".into(),
-            ));
-        }
         let walls = Walls {
             left: w.left,
             right: w.right,
@@ -1269,23 +1075,23 @@ fn check_masses(bodies: &[Body], pending: &Queue, materials: &[Material]) -> Res
 /// How many box widths a grain of a dump may move in one step (see [`Dump::to_world`]).
 const MAX_BOX_CROSSINGS: f64 = 1000.0;
 
-fn non_negative(name: &str, v: f64) -> Result<f64, DumpError> {
-    if v.is_finite() && v >= 0.0 {
-        Ok(v)
-    } else {
-        Err(DumpError::Solver(format!(
-            "{name} must be a finite number >= 0, got {v}"
-        )))
-    }
-}
-
-fn positive(name: &str, v: f64) -> Result<f64, DumpError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(DumpError::Solver(format!(
-            "{name} must be a finite number > 0, got {v}"
-        )))
+/// What a dump's absent solver key means: the model's default where the dump format always
+/// wrote the key, and how the code ran before the key was written where it did not
+/// (see [`Dump::solver`]).
+fn legacy_settings(model: Model) -> Settings {
+    let s = Settings::of_model(model);
+    Settings {
+        sleep_radius: 0.0,
+        sleep_steps: 0,
+        sleep_islands: false,
+        shock_propagation: false,
+        strip_width: 0.0,
+        broad_phase: BroadPhaseKind::Grid,
+        soft: SoftSettings {
+            carry_reach: 0.0,
+            ..s.soft
+        },
+        ..s
     }
 }
 

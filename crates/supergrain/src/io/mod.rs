@@ -9,7 +9,7 @@ mod target;
 
 pub use dump::{
     Dump, DumpError, FairJson, GeneratorJson, GroupJson, ParticleJson, PendingJson, QueueJson,
-    SolverJson, WallsJson,
+    WallsJson,
 };
 pub use frames::{
     FORCES_HEADER, MATERIAL_COLUMNS, TRAJECTORY_HEADER, trajectory_header, write_forces_frame,

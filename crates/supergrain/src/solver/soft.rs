@@ -730,7 +730,7 @@ fn find_contacts(
                 bodies,
                 predicted,
                 turns,
-                settings.soft.slop,
+                settings.slop,
                 &work.motions,
                 h,
             ));
@@ -775,7 +775,7 @@ fn find_contacts(
                         bodies,
                         predicted,
                         turns,
-                        settings.soft.slop,
+                        settings.slop,
                         motions,
                         h,
                     ));

@@ -239,23 +239,17 @@ pub const SLOP_FRACTION: f64 = 0.5;
 /// in each other and grains sank through the floor (issue 40).
 pub fn check_slop(settings: &Settings, smallest: f64) -> Result<(), String> {
     let limit = SLOP_FRACTION * smallest;
-    for (name, slop) in [("slop", settings.slop), ("slop", settings.soft.slop)] {
-        if !(slop.is_finite() && slop >= 0.0) {
-            return Err(format!(
-                "solver: {name} must be a finite number >= 0, got {}",
-                short(slop)
-            ));
-        }
-        if slop > limit {
-            return Err(format!(
-                "solver: {name} = {} is deeper than {SLOP_FRACTION} x the smallest semi-axis of \
-                 the grains ({}): contacts would hold grains that deep in each other and in the \
-                 walls; use {name} <= {} (the soft model's default is 0)",
-                short(slop),
-                short(smallest),
-                short(limit)
-            ));
-        }
+    // (Finite and 0 or more: `Settings::validate`.)
+    let slop = settings.slop;
+    if slop > limit {
+        return Err(format!(
+            "solver: slop = {} is deeper than {SLOP_FRACTION} x the smallest semi-axis of \
+             the grains ({}): contacts would hold grains that deep in each other and in the \
+             walls; use slop <= {} (the soft model's default is 0)",
+            short(slop),
+            short(smallest),
+            short(limit)
+        ));
     }
     Ok(())
 }

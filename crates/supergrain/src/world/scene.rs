@@ -11,13 +11,11 @@ use super::Sink;
 use super::checks;
 use super::spawn::{BAND_IN_RADII, SpawnRule};
 use crate::body::{Body, BodyKind, Drive, Material, Walls, material_of};
-use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::NarrowPhase;
 use crate::geometry::{Aabb, Vec2};
 use crate::measure::series::{Series, SeriesKind};
-use crate::settings::{Model, Rotation, Settings, SoftSettings};
+use crate::settings::{Model, Settings, SoftSettings, SolverTable};
 use crate::shape::{Boundary, BoundarySpec, HalfPlane, Pose, ShapeError, Superellipse};
-use crate::subdivision::{MAX_DEPTH, Precision};
 
 /// A closed range `[lo, hi]` of values drawn uniformly, or one fixed value (`lo == hi`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -315,49 +313,18 @@ impl Scene {
                 ),
             ));
         }
-        let defaults = Settings::default();
-        let s = file.solver.unwrap_or_default();
-        let depth = s
-            .depth
-            .as_ref()
-            .map_or(defaults.precision.depth(), |d| *d.get_ref());
-        if depth > MAX_DEPTH {
-            let span = s.depth.as_ref().map_or(0..0, |d| d.span());
-            return Err(invalid(
-                span,
-                format!("solver: depth must be at most {MAX_DEPTH}, got {depth}"),
-            ));
-        }
-        if let Some(d) = &s.damping
-            && !(0.0..1.0).contains(d.get_ref())
-        {
-            return Err(invalid(
-                d.span(),
-                format!("solver: damping must be in [0, 1), got {}", d.get_ref()),
-            ));
-        }
         // A scene file that does not say gets the rigid-body solver (issue 18); the presets,
         // and `Settings::default()` for programs, keep the paper's.
-        let model = match s.model {
-            None => Model::Soft,
-            Some(ModelSpec::Paper) => Model::Paper,
-            Some(ModelSpec::Soft) => Model::Soft,
-        };
-        let defaults = match model {
-            Model::Soft => Settings::soft(),
-            Model::Paper => defaults,
-        };
-        if let Some(islands) = &s.sleep_islands
-            && *islands.get_ref()
-            && model != Model::Soft
-        {
-            return Err(invalid(
-                islands.span(),
-                "solver: sleep_islands needs model = \"soft\" (the paper's model sleeps grain \
-                 by grain)"
-                    .into(),
-            ));
-        }
+        let solver_line = file.solver.as_ref().map_or(0..0, |t| t.span());
+        let s = file
+            .solver
+            .as_ref()
+            .map(|t| t.get_ref().clone())
+            .unwrap_or_default();
+        let mut settings = s
+            .settings(Model::Soft, Settings::of_model)
+            .map_err(|e| invalid(solver_line.clone(), format!("solver: {e}")))?;
+        let model = settings.model;
         // The paper's projection moves grains by geometry alone, with no masses, friction or
         // bounce: a material key under it would be accepted and do nothing (issue 40).
         if model == Model::Paper {
@@ -382,62 +349,6 @@ impl Scene {
                     ));
                 }
             }
-        }
-        let mut settings = Settings {
-            step: s.step.map_or(defaults.step, |v| v.0),
-            damping: s
-                .damping
-                .as_ref()
-                .map_or(defaults.damping, |v| *v.get_ref()),
-            gravity: s.gravity.map_or(defaults.gravity, |v| v.0),
-            max_iterations: s.max_iterations.unwrap_or(defaults.max_iterations),
-            slop: s.slop.map_or(defaults.slop, |v| v.0),
-            sleep_radius: s.sleep_radius.map_or(defaults.sleep_radius, |v| v.0),
-            sleep_steps: s.sleep_steps.unwrap_or(defaults.sleep_steps),
-            sleep_islands: s
-                .sleep_islands
-                .as_ref()
-                .map_or(defaults.sleep_islands, |v| *v.get_ref()),
-            shock_propagation: s.shock_propagation.unwrap_or(defaults.shock_propagation),
-            precision: Precision::new(depth, s.eps.map_or(0.0, |v| v.0))
-                .map_err(|e| invalid(0..0, format!("solver: {e}")))?,
-            rotation: s.rotation.unwrap_or(defaults.rotation.into()).into(),
-            narrow_phase: s
-                .narrow_phase
-                .unwrap_or(defaults.narrow_phase.into())
-                .into(),
-            broad_phase: match s.broad_phase {
-                None => defaults.broad_phase,
-                Some(BroadPhaseSpec::Grid) => BroadPhaseKind::Grid,
-                Some(BroadPhaseSpec::AllPairs) => BroadPhaseKind::AllPairs,
-            },
-            // Set below, from the groups unless given.
-            strip_width: 0.0,
-            model,
-            soft: {
-                let d = defaults.soft;
-                SoftSettings {
-                    substeps: s.substeps.as_ref().map_or(d.substeps, |v| *v.get_ref()),
-                    contact_hertz: s.contact_hertz.map_or(d.contact_hertz, |v| v.0),
-                    damping_ratio: s.damping_ratio.map_or(d.damping_ratio, |v| v.0),
-                    push_out: s.push_out.map_or(d.push_out, |v| v.0),
-                    restitution_threshold: s
-                        .restitution_threshold
-                        .map_or(d.restitution_threshold, |v| v.0),
-                    slop: s.slop.map_or(d.slop, |v| v.0),
-                    linear_damping: s.linear_damping.map_or(d.linear_damping, |v| v.0),
-                    angular_damping: s.angular_damping.map_or(d.angular_damping, |v| v.0),
-                    carry_reach: s.carry_reach.map_or(d.carry_reach, |v| v.0),
-                }
-            },
-        };
-        if let Some(n) = &s.substeps
-            && !(1..=64).contains(n.get_ref())
-        {
-            return Err(invalid(
-                n.span(),
-                format!("solver: substeps must be 1 to 64, got {}", n.get_ref()),
-            ));
         }
         let mut groups = Vec::new();
         for (k, g) in file.groups.iter().enumerate() {
@@ -489,10 +400,10 @@ impl Scene {
                 material: g.material_spec().material(),
             });
         }
-        if let Some(f) = &s.max_overlap {
+        if let Some(f) = s.max_overlap {
             let width = b.right.get_ref().0 - b.left.get_ref().0;
             settings.soft = stiffness_for(f, &s, &settings, &groups, width)
-                .map_err(|(span, message)| invalid(span, message))?;
+                .map_err(|message| invalid(solver_line.clone(), message))?;
         }
         let spawn_count = match file.spawn.as_ref().and_then(|s| s.count.as_ref()) {
             None => 1,
@@ -576,9 +487,9 @@ impl Scene {
                 }
             },
         };
-        settings.strip_width = s
-            .strip_width
-            .map_or_else(|| auto_strip_width(&groups), |v| v.0);
+        if s.strip_width.is_none() {
+            settings.strip_width = auto_strip_width(&groups);
+        }
         let (mut boundaries, mut boundary_names, mut drives) = (Vec::new(), Vec::new(), Vec::new());
         for (k, p) in file.planes.iter().enumerate() {
             let spec = p.get_ref();
@@ -1044,7 +955,7 @@ struct SceneFile {
     #[serde(rename = "box")]
     bounds: BoxSpec,
     spawn: Option<SpawnSpec>,
-    solver: Option<SolverSpec>,
+    solver: Option<toml::Spanned<SolverTable>>,
     #[serde(rename = "group", default)]
     groups: Vec<GroupSpec>,
     #[serde(rename = "plane", default)]
@@ -1140,36 +1051,25 @@ struct SpawnSpec {
 /// load of every grain of the groups (each group's count at the mean of its smallest and
 /// largest grains' masses) over the box's `width`, on its thinnest grains.
 fn stiffness_for(
-    f: &toml::Spanned<f64>,
-    s: &SolverSpec,
+    v: f64,
+    s: &SolverTable,
     settings: &Settings,
     groups: &[Group],
     width: f64,
-) -> Result<SoftSettings, (std::ops::Range<usize>, String)> {
-    let v = *f.get_ref();
+) -> Result<SoftSettings, String> {
     if settings.model != Model::Soft {
-        return Err((
-            f.span(),
+        return Err(
             "solver: max_overlap needs model = \"soft\" (the paper's projection has no contact \
              stiffness)"
                 .into(),
-        ));
+        );
     }
     if s.contact_hertz.is_some() {
-        return Err((
-            f.span(),
+        return Err(
             "solver: give max_overlap or contact_hertz, not both (max_overlap sets the contact \
              stiffness)"
                 .into(),
-        ));
-    }
-    if !(v > 0.0 && v < 1.0) {
-        return Err((
-            f.span(),
-            format!(
-                "solver: max_overlap is a fraction of a grain's thickness, in (0, 1), got {v:e}"
-            ),
-        ));
+        );
     }
     let mut load = crate::settings::Load {
         mass: 0.0,
@@ -1195,104 +1095,7 @@ fn stiffness_for(
     settings
         .soft
         .for_max_overlap(v, &load, settings.step)
-        .map_err(|e| (f.span(), format!("solver: {e}")))
-}
-
-#[derive(Deserialize, Default)]
-#[serde(deny_unknown_fields)]
-struct SolverSpec {
-    step: Option<Positive>,
-    damping: Option<toml::Spanned<f64>>,
-    gravity: Option<NonNegative>,
-    max_iterations: Option<u32>,
-    slop: Option<NonNegative>,
-    sleep_radius: Option<NonNegative>,
-    sleep_steps: Option<u32>,
-    sleep_islands: Option<toml::Spanned<bool>>,
-    shock_propagation: Option<bool>,
-    strip_width: Option<NonNegative>,
-    depth: Option<toml::Spanned<u32>>,
-    eps: Option<NonNegative>,
-    rotation: Option<RotationSpec>,
-    narrow_phase: Option<NarrowPhaseSpec>,
-    broad_phase: Option<BroadPhaseSpec>,
-    model: Option<ModelSpec>,
-    substeps: Option<toml::Spanned<u32>>,
-    contact_hertz: Option<Positive>,
-    max_overlap: Option<toml::Spanned<f64>>,
-    damping_ratio: Option<NonNegative>,
-    push_out: Option<Positive>,
-    restitution_threshold: Option<NonNegative>,
-    carry_reach: Option<NonNegative>,
-    linear_damping: Option<NonNegative>,
-    angular_damping: Option<NonNegative>,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(rename_all = "snake_case")]
-enum ModelSpec {
-    Paper,
-    Soft,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(rename_all = "kebab-case")]
-enum BroadPhaseSpec {
-    Grid,
-    AllPairs,
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(rename_all = "snake_case")]
-enum RotationSpec {
-    Projection,
-    Inertia,
-}
-
-impl From<Rotation> for RotationSpec {
-    fn from(r: Rotation) -> Self {
-        match r {
-            Rotation::Projection => RotationSpec::Projection,
-            Rotation::Inertia => RotationSpec::Inertia,
-        }
-    }
-}
-
-impl From<RotationSpec> for Rotation {
-    fn from(r: RotationSpec) -> Self {
-        match r {
-            RotationSpec::Projection => Rotation::Projection,
-            RotationSpec::Inertia => Rotation::Inertia,
-        }
-    }
-}
-
-#[derive(Deserialize, Clone, Copy)]
-#[serde(rename_all = "snake_case")]
-enum NarrowPhaseSpec {
-    Interval,
-    Quadtree,
-    Analytic,
-}
-
-impl From<NarrowPhase> for NarrowPhaseSpec {
-    fn from(n: NarrowPhase) -> Self {
-        match n {
-            NarrowPhase::Interval => NarrowPhaseSpec::Interval,
-            NarrowPhase::Quadtree => NarrowPhaseSpec::Quadtree,
-            NarrowPhase::Analytic => NarrowPhaseSpec::Analytic,
-        }
-    }
-}
-
-impl From<NarrowPhaseSpec> for NarrowPhase {
-    fn from(n: NarrowPhaseSpec) -> Self {
-        match n {
-            NarrowPhaseSpec::Interval => NarrowPhase::Interval,
-            NarrowPhaseSpec::Quadtree => NarrowPhase::Quadtree,
-            NarrowPhaseSpec::Analytic => NarrowPhase::Analytic,
-        }
-    }
+        .map_err(|e| format!("solver: {e}"))
 }
 
 #[derive(Deserialize)]
