@@ -340,8 +340,9 @@ fn a_dump_of_the_old_form_resumes_with_its_soft_table() {
 fn the_readme_shows_every_key() {
     let readme =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
-    let reference = &readme[readme.find("[solver]").expect("a [solver] reference")..];
-    let reference = &reference[..reference.find("[[group]]").unwrap()];
+    // The scene reference's table: from its `[solver]` line to the `[[group]]` line after it.
+    let reference = &readme[readme.find("\n[solver]").expect("a [solver] reference")..];
+    let reference = &reference[..reference.find("\n[[group]]").unwrap()];
     for key in SolverTable::KEYS {
         assert!(
             reference.contains(&format!("{key} ")) || reference.contains(&format!("# {key}")),
