@@ -10,7 +10,7 @@ use supergrain::body::Material;
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::render::cell_style;
 use supergrain::settings::Model;
-use supergrain::shape::{Pose, Superellipse};
+use supergrain::shape::{Boundary, Pose, Superellipse};
 use supergrain::subdivision::Precision;
 use supergrain::world::MaterialOf;
 
@@ -259,6 +259,136 @@ fn outline(mut points: Vec<Pos2>, stroke: Stroke) -> Shape {
     Shape::line(points, stroke)
 }
 
+/// A boundary in its solid's colour: a segment or an arc as a thick stroke with round ends, a
+/// drum as a ring outside its circle, an obstacle as a disk, a half-plane as its part of the
+/// canvas.
+fn paint_boundary(painter: &egui::Painter, cam: Camera, rect: Rect, b: &Boundary, fill: Color32) {
+    let to = |p: Vec2| cam.to_screen(rect, p);
+    let px = |d: f64| (d * cam.scale) as f32;
+    let rounded = |points: Vec<Pos2>, radius: f64| {
+        let w = (2.0 * px(radius)).max(1.0);
+        if let (Some(&first), Some(&last)) = (points.first(), points.last()) {
+            painter.circle_filled(first, w / 2.0, fill);
+            painter.circle_filled(last, w / 2.0, fill);
+        }
+        painter.line(points, Stroke::new(w, fill));
+    };
+    match *b {
+        Boundary::Segment { a, b, radius } => rounded(vec![to(a), to(b)], radius),
+        Boundary::Arc {
+            center,
+            r,
+            from,
+            sweep,
+            radius,
+        } => {
+            let n = 96;
+            let points = (0..=n)
+                .map(|k| {
+                    let t = (from + sweep * f64::from(k) / f64::from(n)).to_radians();
+                    to(center + Vec2::new(t.cos(), t.sin()) * r)
+                })
+                .collect();
+            rounded(points, radius);
+        }
+        Boundary::Circle {
+            center,
+            r,
+            inside: true,
+        } => {
+            let w = 6.0;
+            painter.circle_stroke(to(center), px(r) + w / 2.0, Stroke::new(w, fill));
+        }
+        Boundary::Circle {
+            center,
+            r,
+            inside: false,
+        } => {
+            painter.circle_filled(to(center), px(r), fill);
+        }
+        Boundary::Plane(h) => {
+            // The canvas's corners in the plane, clipped to the solid side (`g <= 0`).
+            let corners = [
+                rect.left_top(),
+                rect.right_top(),
+                rect.right_bottom(),
+                rect.left_bottom(),
+            ]
+            .map(|q| cam.to_plane(rect, q));
+            let g = |p: Vec2| h.value(p);
+            let mut solid = Vec::new();
+            for k in 0..4 {
+                let (p, q) = (corners[k], corners[(k + 1) % 4]);
+                let (gp, gq) = (g(p), g(q));
+                if gp <= 0.0 {
+                    solid.push(to(p));
+                }
+                if (gp < 0.0) != (gq < 0.0) && gp != gq {
+                    solid.push(to(p + (q - p) * (gp / (gp - gq))));
+                }
+            }
+            if solid.len() >= 3 {
+                painter.add(egui::Shape::convex_polygon(solid, fill, Stroke::NONE));
+            }
+        }
+    }
+}
+
+/// A measure's headline over time, as a line in a small chart with its range.
+fn measure_chart(ui: &mut egui::Ui, m: &crate::sim::Measured) {
+    ui.label(egui::RichText::new(&m.summary).small());
+    if m.points.len() < 2 {
+        return;
+    }
+    let (lo, hi) = m
+        .points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p[1]), hi.max(p[1]))
+        });
+    let (t0, t1) = (m.points[0][0], m.points[m.points.len() - 1][0]);
+    let (response, painter) =
+        ui.allocate_painter(egui::vec2(ui.available_width(), 60.0), Sense::hover());
+    let r = response.rect.shrink(2.0);
+    painter.rect_stroke(
+        response.rect,
+        2.0,
+        Stroke::new(1.0, Color32::from_gray(90)),
+        egui::StrokeKind::Inside,
+    );
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let dt = if t1 > t0 { t1 - t0 } else { 1.0 };
+    let points = m
+        .points
+        .iter()
+        .map(|p| {
+            Pos2::new(
+                r.left() + ((p[0] - t0) / dt) as f32 * r.width(),
+                r.bottom() - ((p[1] - lo) / span) as f32 * r.height(),
+            )
+        })
+        .collect();
+    painter.line(points, Stroke::new(1.5, Color32::from_rgb(0, 150, 150)));
+    ui.label(
+        egui::RichText::new(format!(
+            "{}: {} to {} over t = {t0:.2} to {t1:.2}",
+            m.what,
+            short(lo),
+            short(hi)
+        ))
+        .small(),
+    );
+}
+
+/// A number in a few characters.
+fn short(v: f64) -> String {
+    if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
+        format!("{v:.3e}")
+    } else {
+        format!("{v:.4}")
+    }
+}
+
 fn paint_box(painter: &egui::Painter, cam: Camera, rect: Rect, b: &Aabb, stroke: Stroke) {
     let r = Rect::from_two_pos(cam.to_screen(rect, b.min), cam.to_screen(rect, b.max));
     painter.rect_stroke(r, 0.0, stroke, egui::StrokeKind::Middle);
@@ -419,6 +549,15 @@ impl App {
         }
         if let Some(current) = &snap.materials {
             self.materials_panel(ui, snap.commands, current);
+        }
+        if !snap.measures.is_empty() {
+            ui.separator();
+            ui.heading("Measures");
+            for m in &snap.measures {
+                egui::CollapsingHeader::new(m.kind)
+                    .default_open(true)
+                    .show(ui, |ui| measure_chart(ui, m));
+            }
         }
         ui.heading("Spawn rule");
         if let Some(current) = snap.spawn {
@@ -584,6 +723,18 @@ impl App {
             [tl, bl, br, tr].map(|p| cam.to_screen(rect, p)).to_vec(),
             wall,
         );
+        for b in &snap.boundaries {
+            paint_boundary(&painter, cam, rect, b, Color32::from_gray(60));
+        }
+        for sink in &snap.sinks {
+            paint_box(
+                &painter,
+                cam,
+                rect,
+                sink,
+                Stroke::new(1.5, Color32::from_rgb(0, 128, 128)),
+            );
+        }
         if snap.overlays.boxes {
             for g in &snap.grains {
                 let b = g.shape.bounding_box(&g.pose);
@@ -1047,7 +1198,7 @@ mod tests {
     use eframe::egui::epaint::{Mesh, TessellationOptions, Tessellator};
     use eframe::egui::{Color32, Pos2, Stroke};
     use supergrain::geometry::Vec2;
-    use supergrain::shape::{Pose, Superellipse};
+    use supergrain::shape::{Boundary, Pose, Superellipse};
 
     use super::outline;
 

@@ -4,7 +4,7 @@
 
 use supergrain::body::{Body, Material};
 use supergrain::contact::{Penetration, WallPenetration};
-use supergrain::geometry::Vec2;
+use supergrain::geometry::{Aabb, Vec2};
 use supergrain::io::Dump;
 use supergrain::render::{Colouring, Style, render_world};
 use supergrain::settings::{Model, Settings};
@@ -130,9 +130,32 @@ pub struct Grain {
 }
 
 /// What one frame draws.
+/// A scene's measure as the window follows it: its latest summary line and its headline
+/// number over time.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Measured {
+    /// The measure's kind (`discharge`, `energy`, ...).
+    pub kind: &'static str,
+    /// What the chart shows (`grains taken`, `degrees`, ...); empty for none.
+    pub what: &'static str,
+    /// The run's summary line, as at the measure's last row.
+    pub summary: String,
+    /// `[time, value]`, one a row, the last [`MEASURE_POINTS`].
+    pub points: Vec<[f64; 2]>,
+}
+
+/// The most points a live chart keeps.
+pub const MEASURE_POINTS: usize = 600;
+
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
     pub label: String,
+    /// The boundaries where they are now (a drum turned, a floor shaken).
+    pub boundaries: Vec<supergrain::shape::Boundary>,
+    /// The sinks' regions.
+    pub sinks: Vec<Aabb>,
+    /// The scene's measures, live.
+    pub measures: Vec<Measured>,
     pub grains: Vec<Grain>,
     pub walls: [f64; 3],
     pub top: f64,
@@ -176,6 +199,8 @@ pub struct Sim {
     held: Option<(usize, Vec2)>,
     message: Option<String>,
     commands: u64,
+    /// The scene's measures as taken so far (one per `world.measures`).
+    measured: Vec<Measured>,
 }
 
 /// Upper bounds the sliders and commands keep to, so a slip of the mouse cannot stall the
@@ -240,7 +265,7 @@ impl Sim {
     }
 
     fn new(source: Source, scene: Scene) -> Sim {
-        Sim {
+        let mut sim = Sim {
             world: World::new(&scene),
             source,
             scene,
@@ -252,7 +277,10 @@ impl Sim {
             held: None,
             message: None,
             commands: 0,
-        }
+            measured: Vec::new(),
+        };
+        sim.measure();
+        sim
     }
 
     pub fn source(&self) -> &Source {
@@ -370,6 +398,29 @@ impl Sim {
         self.world.wall_material = walls;
         self.held = None;
         self.message = None;
+        self.measured.clear();
+        self.measure();
+    }
+
+    /// A row of every measure due at this step: its summary, and its headline on the chart.
+    fn measure(&mut self) {
+        let world = &self.world;
+        self.measured
+            .resize_with(world.measures.len(), Measured::default);
+        for (series, m) in world.measures.iter().zip(&mut self.measured) {
+            if !series.due(world.step) && !m.summary.is_empty() {
+                continue;
+            }
+            m.kind = series.kind.name();
+            m.summary = series.summary(world);
+            if let Some((what, v)) = series.headline(world) {
+                m.what = what;
+                if m.points.len() == MEASURE_POINTS {
+                    m.points.remove(0);
+                }
+                m.points.push([world.time(), v]);
+            }
+        }
     }
 
     fn tune(&mut self, t: Settings) -> Result<(), String> {
@@ -461,6 +512,7 @@ impl Sim {
             b.previous_center = before.center;
             b.previous_angle = before.angle;
         }
+        self.measure();
     }
 
     /// The grain whose inside holds `p` (the topmost drawn, i.e. the last).
@@ -558,6 +610,9 @@ impl Sim {
             message: self.message.clone(),
             held: self.held.map(|(i, _)| i),
             commands: self.commands,
+            boundaries: world.boundaries.clone(),
+            sinks: world.sinks.iter().map(|s| s.region).collect(),
+            measures: self.measured.clone(),
             ..Snapshot::default()
         };
         if self.overlays.vectors || self.overlays.cells {

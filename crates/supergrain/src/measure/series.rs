@@ -152,6 +152,28 @@ impl Series {
         Ok(())
     }
 
+    /// The one number a live chart follows (the viewer's), with its name: the grains taken by
+    /// every sink, the total kinetic energy, the surface's angle, the region's area fraction;
+    /// `None` for a profile (many numbers) and a surface too small to fit.
+    pub fn headline(&self, world: &World) -> Option<(&'static str, f64)> {
+        match self.kind {
+            SeriesKind::Discharge => Some((
+                "grains taken",
+                world.sinks.iter().map(|s| s.grains).sum::<u64>() as f64,
+            )),
+            SeriesKind::Energy => Some(("kinetic energy", {
+                let (_, t, r) = energy(world);
+                t + r
+            })),
+            SeriesKind::Surface => surface_angle(world).map(|(a, _)| ("degrees", a)),
+            SeriesKind::Packing => Some((
+                "area fraction",
+                packing_in(world, &self.window()).area_fraction,
+            )),
+            SeriesKind::Profile => None,
+        }
+    }
+
     /// A line for the run's summary.
     pub fn summary(&self, world: &World) -> String {
         match self.kind {
