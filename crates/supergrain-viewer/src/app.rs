@@ -1198,7 +1198,7 @@ mod tests {
     use eframe::egui::epaint::{Mesh, TessellationOptions, Tessellator};
     use eframe::egui::{Color32, Pos2, Stroke};
     use supergrain::geometry::Vec2;
-    use supergrain::shape::{Boundary, Pose, Superellipse};
+    use supergrain::shape::{Pose, Superellipse};
 
     use super::outline;
 
