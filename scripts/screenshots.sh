@@ -4,7 +4,8 @@
 #
 #   scripts/screenshots.sh [OUT_DIR]      (default: docs)
 #
-# Writes OUT_DIR/viewer-native.png, OUT_DIR/viewer-explorer.png and OUT_DIR/viewer-web.png.
+# Writes OUT_DIR/viewer-native.png, OUT_DIR/viewer-explorer.png, OUT_DIR/viewer-drum.png and
+# OUT_DIR/viewer-web.png.
 # Needs (installed here if missing, as root): xvfb, imagemagick, chromium, Mesa's software
 # OpenGL. Prints the measured frame rates; they are also written to OUT_DIR/bench/viewer.txt.
 set -euo pipefail
@@ -63,6 +64,14 @@ sleep 3
 import -window root "$out/viewer-explorer.png"
 wait "$viewer"
 not_blank "$out/viewer-explorer.png"
+
+# The rotating drum: a boundary turning, and the scene's surface measure live in the panel.
+"$sg" view examples/scenes/drum.toml --speed 2 --quit-after 14 >/dev/null &
+viewer=$!
+sleep 12
+import -window root "$out/viewer-drum.png"
+wait "$viewer"
+not_blank "$out/viewer-drum.png"
 
 # 2. The frame rate on the 1,000-grain example while it pours (the on-screen counter, also
 # printed once a second with --log-fps), over 60 s.

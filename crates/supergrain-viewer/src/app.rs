@@ -676,9 +676,13 @@ impl App {
         let (response, painter) = ui.allocate_painter(ui.available_size(), Sense::click_and_drag());
         let rect = response.rect;
         let [left, right, floor] = snap.walls;
-        let region = Aabb::new(
-            Vec2::new(left, floor),
-            Vec2::new(right, snap.top.max(floor + 1.0)),
+        // The box, and the boundaries wherever they reach (a drum above the top).
+        let region = snap.boundaries.iter().filter_map(Boundary::extent).fold(
+            Aabb::new(
+                Vec2::new(left, floor),
+                Vec2::new(right, snap.top.max(floor + 1.0)),
+            ),
+            |r, e| r.union(&e),
         );
         if self.last_label != snap.label {
             self.camera = None;
