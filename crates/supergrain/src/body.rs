@@ -48,6 +48,11 @@ pub enum BodyKind {
     /// either side of its orifice, a hopper's sides). The solvers treat it as a sleeper that
     /// nothing wakes: no gravity, no mass, in no island.
     Static,
+    /// Moved by its drive ([`Driver`]): a paddle turning, a piston shaken. Its place at every
+    /// step is a closed form of its place at step 0, and the soft step sees its velocity with no
+    /// mass and no gravity: it pushes and drags the grains it meets, which do not push it back.
+    /// Never asleep, in no island; grains near it while it moves stay awake.
+    Kinematic,
 }
 
 impl BodyKind {
@@ -111,8 +116,11 @@ impl Body {
     /// Whether the solvers hold the grain still: a static body always, a dynamic one when it
     /// sleeps under these settings.
     pub fn asleep(&self, settings: &Settings) -> bool {
-        self.kind == BodyKind::Static
-            || (settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps)
+        match self.kind {
+            BodyKind::Static => true,
+            BodyKind::Kinematic => false,
+            BodyKind::Dynamic => settings.sleep_radius > 0.0 && self.calm >= settings.sleep_steps,
+        }
     }
 
     pub fn is_static(&self) -> bool {
@@ -297,16 +305,25 @@ pub struct Drive {
 impl Drive {
     /// From a `[[boundary]]` table's `turn`, `shake` and `belt`, checked.
     pub fn from_spec(spec: &BoundarySpec) -> Result<Drive, String> {
+        Drive::from_keys(spec.turn.as_ref(), spec.shake.as_ref(), spec.belt)
+    }
+
+    /// From the keys `turn`, `shake` and `belt` (a boundary's or a driven grain's), checked.
+    pub fn from_keys(
+        turn: Option<&TurnSpec>,
+        shake: Option<&ShakeSpec>,
+        belt: Option<f64>,
+    ) -> Result<Drive, String> {
         let two = |what: &str, v: &[f64]| match v {
             [x, y] if x.is_finite() && y.is_finite() => Ok(Vec2::new(*x, *y)),
             _ => Err(format!("{what} needs two finite numbers [x, y], got {v:?}")),
         };
-        let turn = match &spec.turn {
+        let turn = match turn {
             Some(t) if t.rate.is_finite() => Some((two("turn's about", &t.about)?, t.rate)),
             Some(t) => return Err(format!("turn's rate must be finite, got {}", t.rate)),
             None => None,
         };
-        let shake = match &spec.shake {
+        let shake = match shake {
             Some(s) if s.frequency.is_finite() && s.frequency >= 0.0 => {
                 Some((two("shake's amplitude", &s.amplitude)?, s.frequency))
             }
@@ -318,7 +335,7 @@ impl Drive {
             }
             None => None,
         };
-        let belt = spec.belt.unwrap_or(0.0);
+        let belt = belt.unwrap_or(0.0);
         if !belt.is_finite() {
             return Err(format!("belt must be a finite speed, got {belt}"));
         }
@@ -362,6 +379,26 @@ impl Drive {
         base.moved(pivot, angle, self.offset(t))
     }
 
+    /// Where a driven grain placed at `base` at `t = 0` is at time `t`: its centre turned about
+    /// the pivot and its angle by the same turn, then shaken ([`Self::place`]'s motion).
+    pub fn pose_at(&self, base: &Pose, t: f64) -> Pose {
+        if self.turn.is_none() && self.shake.is_none() {
+            return *base;
+        }
+        let (pivot, angle) = self
+            .turn
+            .map_or((Vec2::ZERO, 0.0), |(p, rate)| (p, (rate * t).to_radians()));
+        let turned = pivot + crate::geometry::Rotation::new(angle).apply(base.center() - pivot);
+        Pose::from_parts(turned + self.offset(t), base.angle() + angle)
+    }
+
+    /// Writes its keys into a driven grain's record (a dump's `drivers`).
+    pub fn keys(&self) -> (Option<TurnSpec>, Option<ShakeSpec>) {
+        let mut spec = BoundarySpec::default();
+        self.write(&mut spec);
+        (spec.turn, spec.shake)
+    }
+
     /// Its motion over the step from `t` to `t + h`, for the solver: the shake's mean velocity
     /// (so that the substeps end where [`Self::place`] puts it), the turn's rate, and the
     /// belt's speed as a velocity of the surface ([`WallMotion`], about the pivot at `t + h`).
@@ -392,4 +429,12 @@ impl Drive {
         }
         WallMotion { v, w, pivot }
     }
+}
+
+/// A driven grain ([`BodyKind::Kinematic`]): its id, where it was at step 0, and its drive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Driver {
+    pub id: BodyId,
+    pub base: Pose,
+    pub drive: Drive,
 }

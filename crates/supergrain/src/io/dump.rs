@@ -7,13 +7,15 @@ use std::collections::VecDeque;
 use serde::{Deserialize, Serialize};
 
 use super::ShapeJson;
-use crate::body::{Body, BodyId, BodyKind, Drive, Material, Walls, material_of};
+use crate::body::{Body, BodyId, BodyKind, Drive, Driver, Material, Walls, material_of};
 use crate::broad_phase::Kind as BroadPhaseKind;
 use crate::contact::WarmStart;
 use crate::geometry::{Aabb, Vec2};
 use crate::measure::series::Series;
 use crate::settings::{Model, Settings, SoftSettings, SolverTable};
-use crate::shape::{Boundary, BoundarySpec, HalfPlane, Pose, ShapeError, Superellipse};
+use crate::shape::{
+    Boundary, BoundarySpec, HalfPlane, Pose, ShakeSpec, ShapeError, Superellipse, TurnSpec,
+};
 use crate::solver::carry::{Carried, CarriedParts};
 use crate::solver::soft::{Kept, MAX_WALLS, STATIC};
 use crate::world::{Fair, Generator, Group, Pending, Queue, Range, Sink, Touch, World, checks};
@@ -277,6 +279,10 @@ pub struct Dump {
     /// The boundaries besides the box's walls, in order (a polyline as its segments).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub boundaries: Vec<BoundarySpec>,
+    /// The driven grains: each one's id, where it was at step 0 and its drive (where it is now
+    /// follows from the time); absent: none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drivers: Vec<DriverJson>,
     /// Where the clock restarted when the time step changed, `[step, time]`
     /// ([`World::clock`]); absent: never, the time is the steps times the step.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -295,6 +301,20 @@ pub struct Dump {
     /// Measures taken as the run goes: `{"kind", "every"}`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub measures: Vec<Series>,
+}
+
+/// A driven grain ([`Driver`]): the particle's `id`, its place at step 0, and its drive's
+/// `turn` and `shake`, as a `[[grain]]` table writes them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriverJson {
+    pub id: u64,
+    pub center: [f64; 2],
+    pub angle: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turn: Option<TurnSpec>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shake: Option<ShakeSpec>,
 }
 
 /// Why a dump cannot be resumed.
@@ -385,6 +405,20 @@ impl Dump {
             planes: Vec::new(),
             // Each at step 0, with its drive: where it is now follows from the step.
             clock: (world.clock != (0, 0.0)).then_some(world.clock),
+            drivers: world
+                .drivers
+                .iter()
+                .map(|d| {
+                    let (turn, shake) = d.drive.keys();
+                    DriverJson {
+                        id: d.id.0,
+                        center: d.base.center().to_array(),
+                        angle: d.base.angle(),
+                        turn,
+                        shake,
+                    }
+                })
+                .collect(),
             boundaries: world
                 .bases
                 .iter()
@@ -799,6 +833,43 @@ impl Dump {
             world.clock = (at, time);
         }
         world.place_boundaries();
+        for (k, d) in self.drivers.iter().enumerate() {
+            let bad = |why: String| DumpError::Unworkable(format!("drivers[{k}]: {why}"));
+            let Some(body) = world.bodies.iter().find(|b| b.id == BodyId(d.id)) else {
+                return Err(bad(format!("no particle has id {}", d.id)));
+            };
+            if body.kind != BodyKind::Kinematic {
+                return Err(bad(format!(
+                    "particle {} is not \"kind\": \"kinematic\"",
+                    d.id
+                )));
+            }
+            if world.drivers.iter().any(|o| o.id == body.id) {
+                return Err(bad(format!("particle {} is driven twice", d.id)));
+            }
+            let drive = Drive::from_keys(d.turn.as_ref(), d.shake.as_ref(), None).map_err(bad)?;
+            let base = Pose::new(Vec2::from(d.center), d.angle).map_err(|e| bad(e.to_string()))?;
+            world.drivers.push(Driver {
+                id: body.id,
+                base,
+                drive,
+            });
+        }
+        if let Some(b) = world
+            .bodies
+            .iter()
+            .find(|b| b.kind == BodyKind::Kinematic && !world.drivers.iter().any(|d| d.id == b.id))
+        {
+            return Err(DumpError::Unworkable(format!(
+                "particle {}: \"kind\": \"kinematic\" needs its drive in \"drivers\"",
+                b.id.0
+            )));
+        }
+        if !world.drivers.is_empty() && world.settings.model != Model::Soft {
+            return Err(DumpError::Unworkable(
+                "drivers: driven grains are the soft model's (\"model\": \"soft\")".into(),
+            ));
+        }
         for (k, m) in self.measures.iter().enumerate() {
             if m.every == 0 {
                 return Err(DumpError::Unworkable(format!(

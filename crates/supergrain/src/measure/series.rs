@@ -104,7 +104,7 @@ impl Series {
         let (step, time) = (world.step, world.time());
         match self.kind {
             SeriesKind::Discharge => {
-                let in_box = world.bodies.iter().filter(|b| !b.is_static()).count();
+                let in_box = world.bodies.iter().filter(|b| b.kind.is_dynamic()).count();
                 let fixed = (world.bodies.len() - in_box) as u64;
                 // Ids are given in order of appearance, fixed bodies first: every grain that
                 // has appeared has one.
@@ -235,13 +235,13 @@ pub fn packing_in(world: &World, window: &Aabb) -> Packing {
     let area: f64 = world
         .bodies
         .iter()
-        .filter(|b| !b.is_static())
+        .filter(|b| b.kind.is_dynamic())
         .map(|b| super::packing::shape_area_in(&b.shape, &b.pose(), window))
         .sum();
     let inside: Vec<bool> = world
         .bodies
         .iter()
-        .map(|b| !b.is_static() && window.contains(b.center))
+        .map(|b| b.kind.is_dynamic() && window.contains(b.center))
         .collect();
     let grains = inside.iter().filter(|&&i| i).count();
     let mut contacts = 0usize;
@@ -298,7 +298,7 @@ pub fn profile_in(world: &World, window: &Aabb, bins: u32) -> Vec<Slice> {
         })
         .collect();
     for (i, b) in world.bodies.iter().enumerate() {
-        if b.is_static() || !window.contains(b.center) {
+        if !b.kind.is_dynamic() || !window.contains(b.center) {
             continue;
         }
         let k = (((b.center.y - window.min.y) / h) as usize).min(slices.len() - 1);
@@ -327,7 +327,7 @@ pub fn surface_angle(world: &World) -> Option<(f64, usize)> {
     let boxes: Vec<Aabb> = world
         .bodies
         .iter()
-        .filter(|b| !b.is_static())
+        .filter(|b| b.kind.is_dynamic())
         .map(|b| b.bounding_box())
         .collect();
     surface_line(&boxes)
@@ -376,7 +376,7 @@ fn energy(world: &World) -> (usize, f64, f64) {
     let soft = world.settings.model == Model::Soft;
     let (mut n, mut translational, mut rotational) = (0, 0.0, 0.0);
     for (i, b) in world.bodies.iter().enumerate() {
-        if b.is_static() {
+        if !b.kind.is_dynamic() {
             continue;
         }
         n += 1;

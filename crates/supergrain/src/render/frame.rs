@@ -137,8 +137,8 @@ pub fn render_world(world: &World, style: &Style) -> Pixmap {
     pixmap.fill(Color::from_rgba8(r, g, b, a));
     for (i, body) in world.bodies.iter().enumerate() {
         let colour = match style.colouring {
-            // A fixed body is part of the container: in the walls' colour.
-            _ if body.is_static() && style.walls => WALL_COLOUR,
+            // A fixed or driven body is part of the container: in the walls' colour.
+            _ if !body.kind.is_dynamic() && style.walls => WALL_COLOUR,
             Colouring::Exponent => exponent_colour(&body.shape),
             Colouring::Palette => PALETTE[i % PALETTE.len()],
             Colouring::Group => PALETTE[body.group as usize % PALETTE.len()],

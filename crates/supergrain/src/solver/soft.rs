@@ -38,7 +38,7 @@ use rayon::prelude::*;
 
 use super::carry::Carried;
 use super::{StepStats, Stopped};
-use crate::body::{Body, Material, WallMotion, Walls, material_of, mix};
+use crate::body::{Body, BodyKind, Material, WallMotion, Walls, material_of, mix};
 use crate::broad_phase::Near;
 use crate::contact::manifold::{Manifold, ManifoldPoint, grain_manifold, wall_manifold};
 use crate::contact::{NarrowPhase, WarmStart};
@@ -421,11 +421,13 @@ pub fn step_or_stop(
         if stop.load(Ordering::Relaxed) {
             return Err(Stopped);
         }
-        for (s, _) in state
+        // (A driven grain keeps the velocity its drive gives it.)
+        for ((s, _), _) in state
             .solids
             .iter_mut()
             .zip(awake.iter())
-            .filter(|(_, a)| **a)
+            .zip(bodies.iter())
+            .filter(|((_, a), b)| **a && b.kind.is_dynamic())
         {
             s.v = (s.v + gravity * hs) * lin;
             s.w *= ang;
@@ -468,15 +470,29 @@ pub fn step_or_stop(
     Ok(stats)
 }
 
-/// Grains within reach of a moving wall do not sleep: a sleeper holds still as a wall does, and
-/// a moving wall would go through it.
+/// Grains within reach of a moving wall or a moving driven grain do not sleep: a sleeper holds
+/// still as a wall does, and a moving wall would go through it.
 fn wake_at_moving_walls(bodies: &mut [Body], boundaries: &[Boundary], motions: &[WallMotion]) {
     for (wall, m) in boundaries.iter().zip(motions) {
         if !m.moves() {
             continue;
         }
-        for b in bodies.iter_mut().filter(|b| !b.is_static()) {
+        for b in bodies.iter_mut().filter(|b| b.kind.is_dynamic()) {
             if wall.distance(b.center) < b.shape.bounding_radius() + 2.0 * SPECULATIVE {
+                b.calm = 0;
+            }
+        }
+    }
+    let driven: Vec<(Vec2, f64)> = bodies
+        .iter()
+        .filter(|b| {
+            b.kind == BodyKind::Kinematic && (b.velocity != Vec2::ZERO || b.angular_velocity != 0.0)
+        })
+        .map(|b| (b.center, b.shape.bounding_radius()))
+        .collect();
+    for (c, r) in driven {
+        for b in bodies.iter_mut().filter(|b| b.kind.is_dynamic()) {
+            if (b.center - c).norm() < r + b.shape.bounding_radius() + 2.0 * SPECULATIVE {
                 b.calm = 0;
             }
         }
@@ -489,7 +505,7 @@ fn masses(bodies: &[Body], material: &impl Fn(&Body) -> Material, work: &mut Sof
         work.inverse.clear();
     }
     for b in &bodies[work.inverse.len()..] {
-        if b.is_static() {
+        if !b.kind.is_dynamic() {
             work.inverse.push((0.0, 0.0));
             continue;
         }
@@ -599,7 +615,13 @@ fn find_contacts(
     let narrow = settings.narrow();
     let fall = Vec2::new(0.0, -settings.gravity * h);
     work.predicted.clear();
+    // (A fixed or driven grain does not fall: a driven one is where its drive puts it.)
     work.predicted.extend(bodies.iter().map(|b| {
+        let fall = if b.kind.is_dynamic() {
+            fall
+        } else {
+            Vec2::ZERO
+        };
         Pose::from_parts(
             b.center + (b.velocity + fall) * h,
             b.angle + b.angular_velocity * h,
@@ -624,6 +646,15 @@ fn find_contacts(
         .collect();
     let disks = &disks;
     let (boxes, awake, warm, near) = (&work.boxes, &work.awake, &work.warm, &work.near);
+    // A pair is tested when one of its grains moves under its contacts: awake and dynamic (a
+    // driven grain against a sleeper, a fixed grain or a wall has no mass on either side; the
+    // sleepers near a moving driven grain were woken).
+    let free: Vec<bool> = bodies
+        .iter()
+        .zip(awake)
+        .map(|(b, &a)| a && b.kind.is_dynamic())
+        .collect();
+    let free = &free;
     work.pairs.clear();
     work.pairs.par_extend(
         (0..bodies.len().div_ceil(PAIR_CHUNK))
@@ -633,7 +664,7 @@ fn find_contacts(
                 for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(bodies.len()) {
                     for &j in near.later(i) {
                         let j = j as usize;
-                        if (awake[i] || awake[j])
+                        if (free[i] || free[j])
                             && (if disks[i] && disks[j] {
                                 boxes[i].grown(SPECULATIVE).intersects(&boxes[j])
                             } else {
@@ -737,12 +768,12 @@ fn find_contacts(
         }
     }
     let wall_boxes: Vec<Aabb> = walls.iter().map(Boundary::bounding_box).collect();
-    let (awake, boxes, motions) = (&work.awake, &work.boxes, &work.motions);
+    let (boxes, motions) = (&work.boxes, &work.motions);
     // Each awake grain against each wall whose box it meets, on all cores, collected in the
     // order of the grains and walls.
     let at_walls: Vec<(usize, Vec<Constraint>)> = (0..bodies.len())
         .into_par_iter()
-        .filter(|&i| awake[i])
+        .filter(|&i| free[i])
         .map(|i| {
             let b = &bodies[i];
             let pose = &predicted[i];
@@ -1087,7 +1118,11 @@ fn update_sleep(
     woken: &mut Vec<usize>,
 ) {
     count_calm(bodies, awake, s);
-    for (b, _) in bodies.iter_mut().zip(awake).filter(|(_, a)| **a) {
+    for (b, _) in bodies
+        .iter_mut()
+        .zip(awake)
+        .filter(|(b, a)| **a && b.kind.is_dynamic())
+    {
         if b.calm >= s.sleep_steps {
             b.velocity = Vec2::ZERO;
             b.angular_velocity = 0.0;
@@ -1097,7 +1132,7 @@ fn update_sleep(
     // it moves).
     for c in constraints {
         for (me, other) in [(c.a, c.b), (c.b, c.a)] {
-            if me == STATIC || awake[me] || bodies[me].is_static() {
+            if me == STATIC || awake[me] || !bodies[me].kind.is_dynamic() {
                 continue;
             }
             if other != STATIC && awake[other] && bodies[other].calm == 0 {
@@ -1115,7 +1150,12 @@ fn update_sleep(
 /// Each awake grain's calm count: one more step within `sleep_radius` of its anchor, or 0 and a
 /// new anchor where it is.
 fn count_calm(bodies: &mut [Body], awake: &[bool], s: &Settings) {
-    for (b, _) in bodies.iter_mut().zip(awake).filter(|(_, a)| **a) {
+    // (A driven grain is never calm: it moves as its drive says, whatever touches it.)
+    for (b, _) in bodies
+        .iter_mut()
+        .zip(awake)
+        .filter(|(b, a)| **a && b.kind.is_dynamic())
+    {
         if (b.center - b.anchor).norm() > s.sleep_radius {
             b.anchor = b.center;
             b.calm = 0;
@@ -1149,8 +1189,8 @@ fn update_sleep_islands(
     // The grain pairs in contact at the step before (walls' keys are past every grain), in
     // order (the map's own order depends on its history, which a resumed run does not share),
     // then this step's.
-    // A static body is in no island: it holds its neighbours as a wall does.
-    let grains = |i: usize, j: usize| !bodies[i].is_static() && !bodies[j].is_static();
+    // A static or driven body is in no island: it holds its neighbours as a wall does.
+    let grains = |i: usize, j: usize| bodies[i].kind.is_dynamic() && bodies[j].kind.is_dynamic();
     let mut pairs: Vec<PairKey> = kept
         .keys()
         .filter(|&&(i, j)| i < n && j < n && grains(i, j))

@@ -16,7 +16,7 @@ pub use spawn::{
     BAND_IN_RADII, Fair, Generator, Pending, Queue, SpawnRule, TRIES_PER_STEP, narrowed,
 };
 
-use crate::body::{Body, BodyId, Drive, Material, WallMotion, Walls};
+use crate::body::{Body, BodyId, Drive, Driver, Material, WallMotion, Walls};
 use crate::broad_phase::{Any as AnyBroadPhase, BroadPhase, Grid};
 use crate::contact::{Penetration, WallPenetration};
 use crate::geometry::{Aabb, Vec2};
@@ -50,6 +50,9 @@ pub struct World {
     /// at any step is a closed form of that ([`Drive::place`]).
     pub drives: Vec<Drive>,
     pub bases: Vec<Boundary>,
+    /// The driven grains ([`BodyKind::Kinematic`]): each one's place at step 0 and drive; where
+    /// it is at any step is a closed form of that ([`Drive::pose_at`]).
+    pub drivers: Vec<Driver>,
     /// The time at step `.0` was `.1`: the clock restarts there when the time step changes
     /// ([`World::set_step`]), so that time runs on without a jump. `(0, 0.0)` until then.
     pub clock: (u64, f64),
@@ -95,6 +98,7 @@ impl World {
             boundaries: scene.boundaries.clone(),
             drives: scene.drives.clone(),
             bases: scene.boundaries.clone(),
+            drivers: Vec::new(),
             clock: (0, 0.0),
             soft: SoftWorkspace::default(),
             next_id: BodyId(0),
@@ -115,7 +119,14 @@ impl World {
                 body.previous_angle = body.angle - g.angular_velocity * h;
                 (body.velocity, body.angular_velocity) = (Vec2::ZERO, 0.0);
             }
-            world.add(body);
+            let id = world.add(body);
+            if let Some(drive) = g.drive {
+                world.drivers.push(Driver {
+                    id,
+                    base: body.pose(),
+                    drive,
+                });
+            }
         }
         world
     }
@@ -144,6 +155,7 @@ impl World {
             boundaries: Vec::new(),
             drives: Vec::new(),
             bases: Vec::new(),
+            drivers: Vec::new(),
             clock: (0, 0.0),
             soft: SoftWorkspace::default(),
             next_id,
@@ -272,7 +284,10 @@ impl World {
         self.step_start.clear();
         self.step_start.extend(self.bodies.iter().map(|b| b.center));
         let motions = match self.settings.model {
-            Model::Soft => self.motions(),
+            Model::Soft => {
+                self.drive_grains();
+                self.motions()
+            }
             Model::Paper => Vec::new(),
         };
         let stats = match self.settings.model {
@@ -299,6 +314,7 @@ impl World {
         };
         self.step += 1;
         self.place_boundaries();
+        self.place_driven();
         self.drain();
         Ok(stats)
     }
@@ -319,6 +335,33 @@ impl World {
                 drive.motion(now, t, h)
             })
             .collect()
+    }
+
+    /// The driven grains' velocities over the next step: the chord between their places at
+    /// the step's start and end ([`Drive::pose_at`]), so that the substeps end where the drive
+    /// puts them.
+    fn drive_grains(&mut self) {
+        let (h, t) = (self.settings.step, self.time());
+        for d in &self.drivers {
+            let Some(b) = self.bodies.iter_mut().find(|b| b.id == d.id) else {
+                continue;
+            };
+            let (from, to) = (d.drive.pose_at(&d.base, t), d.drive.pose_at(&d.base, t + h));
+            b.velocity = (to.center() - from.center()) * (1.0 / h);
+            b.angular_velocity = (to.angle() - from.angle()) / h;
+        }
+    }
+
+    /// The driven grains where their drives have them now (the closed form's bits, not the
+    /// substeps' sum).
+    pub fn place_driven(&mut self) {
+        let t = self.time();
+        for d in &self.drivers {
+            if let Some(b) = self.bodies.iter_mut().find(|b| b.id == d.id) {
+                let p = d.drive.pose_at(&d.base, t);
+                (b.center, b.angle) = (p.center(), p.angle());
+            }
+        }
     }
 
     /// The boundaries where their drives have them now.
@@ -371,12 +414,13 @@ impl World {
         if self.sinks.is_empty() {
             return;
         }
-        // Each grain's sink (a static body stays: it is part of the container).
+        // Each grain's sink (a static or driven body stays: it is part of the container).
         let sink_of: Vec<Option<usize>> = self
             .bodies
             .iter()
             .map(|b| {
-                (!b.is_static())
+                b.kind
+                    .is_dynamic()
                     .then(|| self.sinks.iter().position(|s| s.region.contains(b.center)))
                     .flatten()
             })
@@ -648,13 +692,15 @@ impl World {
     pub fn asleep(&self) -> usize {
         self.bodies
             .iter()
-            .filter(|b| !b.is_static() && b.asleep(&self.settings))
+            .filter(|b| b.kind.is_dynamic() && b.asleep(&self.settings))
             .count()
     }
 
-    /// The largest grain speed over the last step.
+    /// The largest grain speed over the last step (a driven grain moves as its drive says, and
+    /// does not count).
     pub fn max_speed(&self) -> f64 {
         (0..self.bodies.len())
+            .filter(|&i| self.bodies[i].kind.is_dynamic())
             .map(|i| self.velocity(i).norm())
             .fold(0.0, f64::max)
     }

@@ -157,6 +157,8 @@ pub struct Placed {
     pub line: usize,
     /// Held where it is for good (`fixed = true`): a [`BodyKind::Static`] body.
     pub fixed: bool,
+    /// Moved by a drive (`turn`, `shake`): a [`BodyKind::Kinematic`] body.
+    pub drive: Option<Drive>,
 }
 
 /// The paper's four scenes.
@@ -197,6 +199,8 @@ impl Placed {
             group: self.group,
             kind: if self.fixed {
                 BodyKind::Static
+            } else if self.drive.is_some() {
+                BodyKind::Kinematic
             } else {
                 BodyKind::Dynamic
             },
@@ -617,6 +621,30 @@ impl Scene {
                     "a fixed grain never moves: give it no velocity or angular_velocity".into(),
                 ));
             }
+            let drive = if g.turn.is_some() || g.shake.is_some() {
+                if g.fixed || velocity != Vec2::ZERO || g.angular_velocity.is_some() {
+                    return Err(at(
+                        spanned.span(),
+                        "a driven grain (turn, shake) moves as its drive says: give it no \
+                         `fixed`, velocity or angular_velocity"
+                            .into(),
+                    ));
+                }
+                if settings.model != Model::Soft {
+                    return Err(at(
+                        spanned.span(),
+                        "a driven grain (turn, shake) needs [solver] model = \"soft\" (the \
+                         paper's projection moves grains by their overlaps alone)"
+                            .into(),
+                    ));
+                }
+                Some(
+                    Drive::from_keys(g.turn.as_ref(), g.shake.as_ref(), None)
+                        .map_err(|e| at(spanned.span(), e))?,
+                )
+            } else {
+                None
+            };
             let group = match &g.group {
                 None => 0,
                 Some(name) => groups
@@ -649,6 +677,7 @@ impl Scene {
                 group,
                 line: line_of(spanned.span()),
                 fixed: g.fixed,
+                drive,
             });
         }
         // A `region = [[x0, x1], [y0, y1]]` of a sink or a measure (`what`), checked.
@@ -870,7 +899,7 @@ impl Scene {
             if let Some(j) = placed[..k].iter().zip(&boxes).position(|(o, ob)| {
                 // Fixed grains may overlap each other (the joint of a hopper's sides): they
                 // never meet.
-                if body.is_static() && o.is_static() {
+                if !body.kind.is_dynamic() && !o.kind.is_dynamic() {
                     return false;
                 }
                 let limit = PLACED_TOLERANCE * thin.min(o.shape.min_semi_axis());
@@ -1008,6 +1037,9 @@ struct GrainSpec {
     group: Option<toml::Spanned<String>>,
     #[serde(default)]
     fixed: bool,
+    /// Driven, as a boundary is: `turn = { about, rate }`, `shake = { amplitude, frequency }`.
+    turn: Option<crate::shape::TurnSpec>,
+    shake: Option<crate::shape::ShakeSpec>,
 }
 
 /// A wall at any angle: the line through `point` across `normal`, solid on the side away from
