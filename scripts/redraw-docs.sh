@@ -35,6 +35,9 @@ python3 scripts/beverloo.py --scene-only 8 --out "$tmp" > /dev/null
 "$sg" run "$tmp/silo8.toml" --steps 1200 --dump "$tmp/silo.json" --quiet
 "$sg" render "$tmp/silo.json" -o docs/silo.png --width 240 --colour palette
 
+# The mixer of docs/reference.md (a driven paddle).
+"$sg" run examples/scenes/mixer.toml --png docs/mixer.png --colour group --width 500 --quiet
+
 # The hopper of docs/reference.md#boundaries.
 "$sg" run examples/scenes/hopper.toml --png docs/hopper.png --quiet
 
