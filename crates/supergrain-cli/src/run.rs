@@ -233,12 +233,6 @@ pub fn run(args: Args) -> Result<ExitCode> {
     let svg = plans.file("--svg", args.svg.as_deref())?;
     let png = plans.file("--png", args.png.as_deref())?;
     let trajectory_to = plans.file("--trajectory", args.trajectory.as_deref())?;
-    if args.carry_reach.is_some() && world.settings.model != Model::Soft {
-        bail!(
-            "--carry-reach needs the soft model ([solver] model = \"soft\"): the paper's \
-             projection searches every pair at every pass"
-        );
-    }
     if args.forces.is_some() && world.settings.model != Model::Soft {
         bail!(
             "--forces needs the soft model ([solver] model = \"soft\"): the paper's projection \
@@ -795,6 +789,21 @@ fn overrides(args: &Args) -> Result<SolverTable> {
 
 fn load(args: &Args) -> Result<(World, u64)> {
     let table = overrides(args)?;
+    // The soft step's keys mean nothing to the paper's projection: refused, as a flag would be.
+    let soft_only = |model: Model| match table.soft_key() {
+        Some(key) if model != Model::Soft => {
+            let flag = if key == "carry_reach" && args.carry_reach.is_some() {
+                "--carry-reach".to_string()
+            } else {
+                format!("--set {key}")
+            };
+            Err(anyhow::anyhow!(
+                "{flag} needs the soft model ([solver] model = \"soft\"): this run's model is \
+                 the paper's, whose projection has no such setting"
+            ))
+        }
+        _ => Ok(()),
+    };
     if let Some(path) = &args.resume {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("cannot read dump {}", path.display()))?;
@@ -825,6 +834,7 @@ fn load(args: &Args) -> Result<(World, u64)> {
             let mut world = dump
                 .to_world()
                 .with_context(|| format!("cannot resume from {}", path.display()))?;
+            soft_only(world.settings.model)?;
             if let Some(h) = step {
                 world.set_step(h);
                 // Checked as a dump of the new step would be (one too long for the grains).
@@ -885,6 +895,7 @@ fn load(args: &Args) -> Result<(World, u64)> {
             crate::number(r)
         );
     }
+    soft_only(scene.settings.model)?;
     table
         .apply(&mut scene.settings)
         .and_then(|()| scene.settings.validate())

@@ -659,22 +659,26 @@ impl SolverTable {
             }
             _ => {}
         }
-        let read = |value: &str| toml::from_str::<SolverTable>(&format!("{key} = {value}"));
+        let read = |value: &str| {
+            toml::from_str::<SolverTable>(&format!("{key} = {value}"))
+                .map_err(|e| format!("`{key} = {value}`: {}", e.message()))
+        };
         // A shell drops the quotes of `--set narrow_phase="quadtree"`: a bare word is read as
-        // the string it names.
-        read(value)
-            .or_else(|e| {
-                let bare = !value.is_empty()
-                    && value
-                        .chars()
-                        .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
-                if bare {
-                    read(&format!("{value:?}")).map_err(|_| e)
-                } else {
-                    Err(e)
-                }
-            })
-            .map_err(|e| format!("`{key} = {value}`: {}", e.message()))
+        // the string it names (and refused as one, where the key takes a number).
+        let bare = !value.is_empty()
+            && value
+                .chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic())
+            && value
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
+        let literal = ["true", "false", "nan", "inf"].contains(&value);
+        if bare && !literal {
+            read(&format!("{value:?}"))
+        } else {
+            read(value)
+        }
     }
 }
 
