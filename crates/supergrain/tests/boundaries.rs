@@ -2,6 +2,9 @@
 //! hold every grain out of their solids; a run resumes from its dump bit for bit, on one
 //! thread and two; bad `[[boundary]]` tables are refused with their line.
 
+mod common;
+
+use common::resume::{dump_text, resumed};
 use supergrain::geometry::Vec2;
 use supergrain::io::Dump;
 use supergrain::shape::Boundary;
@@ -46,16 +49,6 @@ semi_axes = [[0.1, 0.14], [0.1, 0.14]]
 exponent = 6.0
 "#;
 
-fn text(w: &World) -> String {
-    serde_json::to_string(&Dump::of(w)).unwrap()
-}
-
-fn run(world: &mut World, steps: u64) {
-    while world.step < steps {
-        world.step();
-    }
-}
-
 #[test]
 fn a_hopper_holds_its_grains_and_resumes_bit_for_bit() {
     let scene = Scene::from_toml(HOPPER).unwrap();
@@ -83,7 +76,7 @@ fn a_hopper_holds_its_grains_and_resumes_bit_for_bit() {
             }
         }
         if w.step == 350 {
-            saved = Some(text(&w));
+            saved = Some(dump_text(&w));
         }
     }
     assert!(
@@ -95,18 +88,13 @@ fn a_hopper_holds_its_grains_and_resumes_bit_for_bit() {
     assert!(below > 10, "{below} grains under the hopper");
     let saved = saved.unwrap();
     assert!(saved.contains("\"boundaries\""));
-    let straight = text(&w);
+    let straight = dump_text(&w);
     for threads in [1, 2] {
-        let resumed = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let mut r = Dump::from_json(&saved).unwrap().to_world().unwrap();
-                run(&mut r, 700);
-                text(&r)
-            });
-        assert_eq!(resumed, straight, "resumed on {threads} threads");
+        assert_eq!(
+            resumed(&saved, 700, threads),
+            straight,
+            "resumed on {threads} threads"
+        );
     }
 }
 
@@ -114,7 +102,7 @@ fn a_hopper_holds_its_grains_and_resumes_bit_for_bit() {
 fn a_dump_keeps_every_boundary_bit_for_bit() {
     let scene = Scene::from_toml(HOPPER).unwrap();
     let w = World::new(&scene);
-    let back = Dump::from_json(&text(&w)).unwrap().to_world().unwrap();
+    let back = Dump::from_json(&dump_text(&w)).unwrap().to_world().unwrap();
     assert_eq!(back.boundaries, w.boundaries);
     // An arc given by `to` is kept as its sweep: 340 - 200.
     match w.boundaries[4] {

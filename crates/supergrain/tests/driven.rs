@@ -3,6 +3,9 @@
 //! is carried up to its friction angle (`tan theta = mu`) and slides there; a tumbler resumed
 //! from a dump ends bit for bit where the uninterrupted run ends, on one thread and two.
 
+mod common;
+
+use common::resume::{dump_text, resumed};
 use std::f64::consts::TAU;
 use supergrain::io::Dump;
 use supergrain::world::{Scene, World};
@@ -142,7 +145,7 @@ fn tumbler() -> Scene {
 fn a_tumbler_resumes_bit_for_bit_on_one_thread_and_two() {
     let s = tumbler();
     assert_eq!(s.boundaries.len(), 4);
-    let text = |w: &World| serde_json::to_string(&Dump::of(w)).unwrap();
+    let text = dump_text;
     let mut w = World::new(&s);
     while w.step < 300 {
         w.step();
@@ -164,18 +167,11 @@ fn a_tumbler_resumes_bit_for_bit_on_one_thread_and_two() {
     }
     let straight = text(&w);
     for threads in [1, 2] {
-        let resumed = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let mut r = Dump::from_json(&saved).unwrap().to_world().unwrap();
-                while r.step < 600 {
-                    r.step();
-                }
-                text(&r)
-            });
-        assert_eq!(resumed, straight, "resumed on {threads} threads");
+        assert_eq!(
+            resumed(&saved, 600, threads),
+            straight,
+            "resumed on {threads} threads"
+        );
     }
 }
 

@@ -5,6 +5,9 @@
 //! a dump ends bit for bit where the uninterrupted run ends, on one thread and two; driven
 //! grains that cannot work are refused, naming the table or field.
 
+mod common;
+
+use common::resume::{dump_text, resumed};
 use std::f64::consts::TAU;
 use supergrain::body::BodyKind;
 use supergrain::io::Dump;
@@ -106,30 +109,22 @@ fn a_grain_on_a_shaken_plank_follows_it_below_one_g_and_leaves_above() {
 #[test]
 fn a_stirred_heap_resumes_bit_for_bit_on_one_thread_and_two() {
     let body = format!("{PADDLE}[[group]]\nname = \"poured\"\ncount = 80\nradius = [0.08, 0.12]\n");
-    let text = |w: &World| serde_json::to_string(&Dump::of(w)).unwrap();
     let mut w = world(&body);
     while w.step < 300 {
         w.step();
     }
-    let saved = text(&w);
+    let saved = dump_text(&w);
     assert!(saved.contains("\"drivers\"") && saved.contains("\"kinematic\""));
     while w.step < 600 {
         w.step();
     }
-    let straight = text(&w);
+    let straight = dump_text(&w);
     for threads in [1, 2] {
-        let resumed = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| {
-                let mut r = Dump::from_json(&saved).unwrap().to_world().unwrap();
-                while r.step < 600 {
-                    r.step();
-                }
-                text(&r)
-            });
-        assert_eq!(resumed, straight, "resumed on {threads} threads");
+        assert_eq!(
+            resumed(&saved, 600, threads),
+            straight,
+            "resumed on {threads} threads"
+        );
     }
 }
 

@@ -4,6 +4,8 @@
 
 use std::f64::consts::TAU;
 
+pub mod resume;
+
 /// A placed superellipse as plain numbers.
 #[derive(Clone, Copy, Debug)]
 pub struct Shape {
