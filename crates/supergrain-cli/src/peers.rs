@@ -114,6 +114,10 @@ pub struct Args {
     /// Repose: disks per pour.
     #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(10..))]
     grains: u64,
+    /// Drum: override one of supergrain's `[solver]` keys in its runs, as `run --set` does
+    /// (repeatable): --set contact_hertz=30. Box2D's settings stay its defaults.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    set: Vec<String>,
     /// Print {"cases": [...]} instead of a table.
     #[arg(long)]
     json: bool,
@@ -161,6 +165,12 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             })
             .collect::<Vec<_>>()
     });
+    if !args.set.is_empty() && args.scene != SceneArg::Drum {
+        anyhow::bail!(
+            "--set: only --scene drum takes supergrain's settings from the command line (the \
+             timed scenes keep the settings their figures were measured with)"
+        );
+    }
     if args.scene == SceneArg::Repose {
         return repose(&args, engines, threads);
     }
@@ -608,6 +618,15 @@ fn drum(args: &Args) -> Result<ExitCode> {
     if let Some(bad) = rates.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
         anyhow::bail!("--rates: expected positive numbers of degrees per second, got {bad}");
     }
+    let mut overrides = supergrain::settings::SolverTable::default();
+    for kv in &args.set {
+        let Some((key, value)) = kv.split_once('=') else {
+            anyhow::bail!("--set {kv}: expected KEY=VALUE (for example --set contact_hertz=30)");
+        };
+        let one = supergrain::settings::SolverTable::one(key.trim(), value.trim())
+            .map_err(|e| anyhow::anyhow!("--set {kv}: {e}"))?;
+        overrides.merge(&one);
+    }
     let drum = Drum::default();
     let seeds: Vec<u64> = (1..=args.seeds.unwrap_or(3)).collect();
     // Each cell the mean over the seeds (the radii's draws), with each seed's angle.
@@ -618,7 +637,10 @@ fn drum(args: &Args) -> Result<ExitCode> {
             for &seed in &seeds {
                 let drum = Drum { seed, ..drum };
                 eprintln!("running drum at {rate} degrees/s, friction {mu}, seed {seed}");
-                ours.push(drum_supergrain(&drum, mu, rate).map_err(|e| anyhow::anyhow!("{e}"))?);
+                ours.push(
+                    drum_supergrain(&drum, mu, rate, &overrides)
+                        .map_err(|e| anyhow::anyhow!("{e}"))?,
+                );
                 theirs.push(drum_box2d(&drum, mu, rate).map_err(|e| anyhow::anyhow!("{e}"))?);
             }
             let mean = |v: &[(f64, usize)]| {

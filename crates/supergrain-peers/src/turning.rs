@@ -30,7 +30,7 @@ use boxdd::{
 use supergrain::body::{Body, Drive, Material, Walls};
 use supergrain::geometry::{Aabb, Vec2};
 use supergrain::measure::series::surface_line;
-use supergrain::settings::{Model, Settings, SoftSettings};
+use supergrain::settings::{Model, Settings, SoftSettings, SolverTable};
 use supergrain::shape::{Boundary, Pose, Superellipse};
 use supergrain::world::World;
 
@@ -197,6 +197,7 @@ fn ours(
     rate: f64,
     material: Material,
     far: f64,
+    settings: Settings,
 ) -> World {
     let walls = Walls {
         left: pivot.x - far,
@@ -206,7 +207,7 @@ fn ours(
     let mut w = World::from_parts(
         bodies,
         walls,
-        soft_settings(),
+        settings,
         0,
         pivot.y + far,
         Default::default(),
@@ -225,8 +226,19 @@ fn ours(
     w
 }
 
-/// supergrain's dynamic drum angle for friction `mu` at `rate` degrees per second.
-pub fn drum_supergrain(drum: &Drum, mu: f64, rate: f64) -> Result<(f64, usize), Error> {
+/// supergrain's dynamic drum angle for friction `mu` at `rate` degrees per second, its soft
+/// step's settings the bench's with `overrides` over them (`bench peers --set`).
+pub fn drum_supergrain(
+    drum: &Drum,
+    mu: f64,
+    rate: f64,
+    overrides: &SolverTable,
+) -> Result<(f64, usize), Error> {
+    let mut settings = soft_settings();
+    overrides
+        .apply(&mut settings)
+        .and_then(|()| settings.validate())
+        .map_err(Error)?;
     let bodies = drum
         .grains()
         .into_iter()
@@ -251,6 +263,7 @@ pub fn drum_supergrain(drum: &Drum, mu: f64, rate: f64) -> Result<(f64, usize), 
         rate,
         material,
         2.0 * drum.radius,
+        settings,
     );
     measure_drum(drum, &mut Ours(world))
 }
@@ -420,6 +433,7 @@ pub fn tumbler_supergrain(threads: usize, steps: u64, reps: usize) -> Result<Hea
             TUMBLER_RATE,
             Material::default(),
             1.5 * h * std::f64::consts::SQRT_2,
+            soft_settings(),
         );
         world.settings.sleep_radius = Settings::soft().sleep_radius;
         runs.push(pool.install(|| {

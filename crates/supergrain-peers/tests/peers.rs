@@ -553,8 +553,15 @@ fn both_drums_raise_a_surface_that_rises_with_friction() {
         measure: 4.0,
         ..Drum::default()
     };
+    fn ours(
+        drum: &Drum,
+        mu: f64,
+        rate: f64,
+    ) -> Result<(f64, usize), supergrain_peers::peer::Error> {
+        drum_supergrain(drum, mu, rate, &Default::default())
+    }
     for (name, run) in [
-        ("supergrain", drum_supergrain as fn(&Drum, f64, f64) -> _),
+        ("supergrain", ours as fn(&Drum, f64, f64) -> _),
         ("box2d", drum_box2d),
     ] {
         let smooth = run(&drum, 0.2, 18.0).unwrap().0;
