@@ -114,8 +114,8 @@ pub struct Args {
     /// Repose: disks per pour.
     #[arg(long, default_value_t = 600, value_parser = clap::value_parser!(u64).range(10..))]
     grains: u64,
-    /// Drum: override one of supergrain's `[solver]` keys in its runs, as `run --set` does
-    /// (repeatable): --set contact_hertz=30. Box2D's settings stay its defaults.
+    /// Drum and repose: override one of supergrain's `[solver]` keys in its runs, as `run
+    /// --set` does (repeatable): --set contact_hertz=30. Box2D's settings stay its defaults.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
     /// Print {"cases": [...]} instead of a table.
@@ -165,10 +165,10 @@ pub fn run(args: Args, threads: Option<u16>) -> Result<ExitCode> {
             })
             .collect::<Vec<_>>()
     });
-    if !args.set.is_empty() && args.scene != SceneArg::Drum {
+    if !args.set.is_empty() && !matches!(args.scene, SceneArg::Drum | SceneArg::Repose) {
         anyhow::bail!(
-            "--set: only --scene drum takes supergrain's settings from the command line (the \
-             timed scenes keep the settings their figures were measured with)"
+            "--set: only --scene drum and --scene repose take supergrain's settings from the \
+             command line (the timed scenes keep the settings their figures were measured with)"
         );
     }
     if args.scene == SceneArg::Repose {
@@ -520,6 +520,7 @@ fn repose(
         },
         engines: engines.unwrap_or(defaults.engines),
         threads: threads.map_or(1, usize::from),
+        overrides: overrides(args)?,
     };
     let runs = repose::runs(&options, &mut |run| eprintln!("running {run}"))
         .map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -604,6 +605,21 @@ fn repose(
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--set`: our `[solver]` keys changed for the drum and the repose pours.
+#[cfg(feature = "peers")]
+fn overrides(args: &Args) -> Result<supergrain::settings::SolverTable> {
+    let mut table = supergrain::settings::SolverTable::default();
+    for kv in &args.set {
+        let Some((key, value)) = kv.split_once('=') else {
+            anyhow::bail!("--set {kv}: expected KEY=VALUE (for example --set contact_hertz=30)");
+        };
+        let one = supergrain::settings::SolverTable::one(key.trim(), value.trim())
+            .map_err(|e| anyhow::anyhow!("--set {kv}: {e}"))?;
+        table.merge(&one);
+    }
+    Ok(table)
+}
+
 /// `--scene drum`: the dynamic angle per rate and friction, supergrain's soft step and Box2D.
 #[cfg(feature = "peers")]
 fn drum(args: &Args) -> Result<ExitCode> {
@@ -618,15 +634,7 @@ fn drum(args: &Args) -> Result<ExitCode> {
     if let Some(bad) = rates.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
         anyhow::bail!("--rates: expected positive numbers of degrees per second, got {bad}");
     }
-    let mut overrides = supergrain::settings::SolverTable::default();
-    for kv in &args.set {
-        let Some((key, value)) = kv.split_once('=') else {
-            anyhow::bail!("--set {kv}: expected KEY=VALUE (for example --set contact_hertz=30)");
-        };
-        let one = supergrain::settings::SolverTable::one(key.trim(), value.trim())
-            .map_err(|e| anyhow::anyhow!("--set {kv}: {e}"))?;
-        overrides.merge(&one);
-    }
+    let overrides = overrides(args)?;
     let drum = Drum::default();
     let seeds: Vec<u64> = (1..=args.seeds.unwrap_or(3)).collect();
     // Each cell the mean over the seeds (the radii's draws), with each seed's angle.

@@ -16,6 +16,7 @@
 use supergrain::body::Material;
 use supergrain::measure::Disk;
 use supergrain::measure::repose::{self, Pile, Pour, Repose};
+use supergrain::settings::SolverTable;
 
 use crate::bench::Engine;
 use crate::box2d::Box2d;
@@ -41,6 +42,8 @@ pub struct Options {
     pub pour: Pour,
     pub engines: Vec<Engine>,
     pub threads: usize,
+    /// Our `[solver]` keys changed from the bench's (`bench peers --set`); Box2D keeps its.
+    pub overrides: SolverTable,
 }
 
 impl Default for Options {
@@ -52,6 +55,7 @@ impl Default for Options {
             pour: Pour::default(),
             engines: vec![Engine::Soft, Engine::Box2d],
             threads: 1,
+            overrides: SolverTable::default(),
         }
     }
 }
@@ -175,10 +179,15 @@ pub fn run(
     friction: f64,
     rolling_resistance: f64,
     threads: usize,
+    overrides: &SolverTable,
 ) -> Result<Run, Error> {
     let poured = match engine {
         Engine::Soft => {
             let mut world = repose::world(pour, material(friction, rolling_resistance));
+            overrides
+                .apply(&mut world.settings)
+                .and_then(|()| world.settings.validate())
+                .map_err(Error)?;
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads.max(1))
                 .build()
@@ -237,6 +246,7 @@ pub fn runs(options: &Options, progress: &mut dyn FnMut(&str)) -> Result<Vec<Run
                     friction,
                     options.rolling_resistance,
                     options.threads,
+                    &options.overrides,
                 )?);
             }
         }

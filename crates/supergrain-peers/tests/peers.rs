@@ -429,7 +429,8 @@ fn box2d_heaps_stand_by_rolling_resistance() {
         ..Pour::default()
     };
     let angle = |rolling| {
-        let run = repose::run(Engine::Box2d, &pour, 0.5, rolling, 1).expect("a pour");
+        let run = repose::run(Engine::Box2d, &pour, 0.5, rolling, 1, &Default::default())
+            .expect("a pour");
         assert!(run.at_rest, "mu_r = {rolling}: not at rest");
         assert_eq!(run.grains, 150);
         run.repose.map_or(0.0, |a| a.degrees())
