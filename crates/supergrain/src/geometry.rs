@@ -129,27 +129,6 @@ impl Rotation {
         Rotation { cos, sin }
     }
 
-    /// [`Rotation::new`] for the small turns of a step (a grain's turn since the step began,
-    /// at most `w h`): below 1/8 of a radian, Taylor's series to the 11th power, within an ulp
-    /// or two of `sin_cos` (the first term left out is below 1e-20) at a fifth of its cost;
-    /// `sin_cos` above. Written by hand: the soft step takes one per grain per substep, and
-    /// `sin_cos` was 6% of a 1,000-disk pour's step (perf).
-    pub fn small(angle: f64) -> Self {
-        if angle.abs() >= 0.125 {
-            return Rotation::new(angle);
-        }
-        let x2 = angle * angle;
-        let sin = angle
-            * (1.0
-                - x2 / 6.0
-                    * (1.0
-                        - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0)))));
-        let cos = 1.0
-            - x2 / 2.0
-                * (1.0 - x2 / 12.0 * (1.0 - x2 / 30.0 * (1.0 - x2 / 56.0 * (1.0 - x2 / 90.0))));
-        Rotation { cos, sin }
-    }
-
     /// `R(theta) v`.
     pub fn apply(self, v: Vec2) -> Vec2 {
         Vec2::new(
@@ -251,26 +230,5 @@ impl Aabb {
 
     pub fn contains(&self, p: Vec2) -> bool {
         (self.min.x..=self.max.x).contains(&p.x) && (self.min.y..=self.max.y).contains(&p.y)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Rotation;
-
-    /// The series agrees with `sin_cos` to 2e-16 (relative to 1) wherever it is used, and
-    /// falls back to it beyond.
-    #[test]
-    fn a_small_turn_is_sin_cos_to_the_last_bits() {
-        let mut worst = 0.0f64;
-        for k in -20_000..=20_000 {
-            let x = f64::from(k) * 0.3 / 20_000.0;
-            let (s, c) = x.sin_cos();
-            let r = Rotation::small(x);
-            worst = worst.max((r.sin - s).abs()).max((r.cos - c).abs());
-        }
-        assert!(worst <= 2.3e-16, "off by {worst:e}");
-        assert_eq!(Rotation::small(0.0).cos, 1.0);
-        assert_eq!(Rotation::small(1.0).sin, 1f64.sin());
     }
 }

@@ -439,7 +439,7 @@ pub fn step_or_stop(
             b.center += s.v * hs;
             b.angle += s.w * hs;
             s.shift = b.center - start[i].0;
-            s.turn = Rotation::small(b.angle - start[i].1);
+            s.turn = Rotation::new(b.angle - start[i].1);
         }
         // A moving wall's motion since the step's start, at its own velocity.
         let elapsed = hs * f64::from(substep + 1);
@@ -688,7 +688,7 @@ fn find_contacts(
         bodies
             .iter()
             .zip(&work.predicted)
-            .map(|(b, p)| Rotation::small(p.angle() - b.angle)),
+            .map(|(b, p)| Rotation::new(p.angle() - b.angle)),
     );
     let (predicted, turns, carried) = (&work.predicted, &work.turns, &work.carried);
     let reach = settings.soft.carry_reach;
