@@ -19,8 +19,9 @@ const D_GRAIN: f64 = 0.2;
 const GRAINS: usize = 3800;
 const HALF_WIDTH: f64 = 4.0;
 
-/// The silo with an orifice `nd` grain diameters wide, filled on a loose lattice.
-fn silo(nd: f64) -> World {
+/// The silo with an orifice `nd` grain diameters wide, filled on a loose lattice, its radii
+/// from sequence `seed` (0: the test's).
+fn silo(nd: f64, seed: usize) -> World {
     let half = (HALF_WIDTH - nd * D_GRAIN / 2.0) / 2.0;
     let spacing = 0.23;
     let cols = ((2.0 * HALF_WIDTH - 0.2) / spacing) as usize;
@@ -34,7 +35,7 @@ fn silo(nd: f64) -> World {
             if n == GRAINS {
                 break;
             }
-            let r = 0.09 + 0.02 * (((n * 7919) % 101) as f64 / 100.0);
+            let r = 0.09 + 0.02 * (((n * 7919 + seed * 104_729) % 101) as f64 / 100.0);
             let x = x0 + c as f64 * spacing;
             grains += &format!("[[grain]]\ncenter = [{x}, {y}]\nradius = {r}\n");
             n += 1;
@@ -69,8 +70,8 @@ const JAM_GRAINS: f64 = 10.0;
 /// The silo of `nd` diameters run while it is full: `(time, grains taken)` every 50 steps
 /// from the first second on (the lattice settles in it), grains conserved at every step; and
 /// whether it jammed (the rows then end where the jam began).
-fn discharge(nd: f64) -> (Vec<(f64, f64)>, bool) {
-    let mut w = silo(nd);
+fn discharge(nd: f64, seed: usize) -> (Vec<(f64, f64)>, bool) {
+    let mut w = silo(nd, seed);
     let mut rows = Vec::new();
     loop {
         w.step();
@@ -112,7 +113,8 @@ fn line(points: &[(f64, f64)]) -> (f64, f64) {
 fn a_silo_discharges_at_beverloos_rate() {
     let widths = [5.0, 6.0, 8.0, 10.0, 12.0, 15.0];
     use rayon::prelude::*;
-    let runs: Vec<(Vec<(f64, f64)>, bool)> = widths.par_iter().map(|&nd| discharge(nd)).collect();
+    let runs: Vec<(Vec<(f64, f64)>, bool)> =
+        widths.par_iter().map(|&nd| discharge(nd, 0)).collect();
     let mut rates = Vec::new();
     // A jam is physics, not a failure: at most one width may jam, one of the two smallest
     // (where clogging is likely); its rate while it flowed is fitted, and its fill is not
@@ -151,7 +153,17 @@ fn a_silo_discharges_at_beverloos_rate() {
         );
         rates.push((nd, w));
     }
-    // C, k and n together: k on a grid, C and n by a line through log W against log (D - k).
+    let (n, k, c) = beverloo_fit(&rates);
+    println!("rates {rates:?}: W = {c:.2} (D - {k:.2} d)^{n:.3}");
+    assert!(
+        (n - 1.5).abs() <= 0.15,
+        "Beverloo's exponent {n} (k = {k}, C = {c}; rates {rates:?})"
+    );
+}
+
+/// `W = C (D - k d)^n` through `(D / d, W)`, C, k and n together: k on a grid, C and n by a line
+/// through log W against log (D - k). `(n, k, C)`.
+fn beverloo_fit(rates: &[(f64, f64)]) -> (f64, f64, f64) {
     let mut best: Option<(f64, f64, f64, f64)> = None;
     for i in 0..400 {
         let k = i as f64 * 0.01;
@@ -169,9 +181,43 @@ fn a_silo_discharges_at_beverloos_rate() {
         }
     }
     let (_, k, n, c) = best.expect("a fit");
-    println!("rates {rates:?}: W = {c:.2} (D - {k:.2} d)^{n:.3}");
+    (n, k, c)
+}
+
+/// The bar over four sequences of radii (the first the test's above), the fit through each
+/// width's mean rate. Ignored (about five minutes of two cores in release:
+/// `cargo test --release --test beverloo -- --ignored --nocapture`). As of stop 46 (2026-12-06)
+/// it fails: the seeds fit n = 1.60, 1.70, 1.56 and 1.83, their mean rates n = 1.66 (k = 1.35
+/// d), just above the bar's 1.65. The test above passes on the first sequence alone.
+#[test]
+#[ignore]
+fn a_silo_discharges_at_beverloos_rate_over_four_seeds() {
+    use rayon::prelude::*;
+    let widths = [5.0, 6.0, 8.0, 10.0, 12.0, 15.0];
+    let jobs: Vec<(usize, f64)> = (0..4)
+        .flat_map(|s| widths.iter().map(move |&nd| (s, nd)))
+        .collect();
+    let rates: Vec<f64> = jobs
+        .par_iter()
+        .map(|&(s, nd)| line(&discharge(nd, s).0).0)
+        .collect();
+    let mut mean = vec![0.0; widths.len()];
+    for (s, seed_rates) in rates.chunks(widths.len()).enumerate() {
+        let pairs: Vec<(f64, f64)> = widths
+            .iter()
+            .copied()
+            .zip(seed_rates.iter().copied())
+            .collect();
+        println!("seed {s}: {pairs:?}: n, k, C = {:?}", beverloo_fit(&pairs));
+        for (m, r) in mean.iter_mut().zip(seed_rates) {
+            *m += r / 4.0;
+        }
+    }
+    let pairs: Vec<(f64, f64)> = widths.iter().copied().zip(mean).collect();
+    let (n, k, c) = beverloo_fit(&pairs);
+    println!("mean rates {pairs:?}: W = {c:.2} (D - {k:.2} d)^{n:.3}");
     assert!(
         (n - 1.5).abs() <= 0.15,
-        "Beverloo's exponent {n} (k = {k}, C = {c}; rates {rates:?})"
+        "Beverloo's exponent over four seeds {n} (k = {k}, C = {c})"
     );
 }
