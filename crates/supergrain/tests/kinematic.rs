@@ -168,6 +168,12 @@ fn driven_grains_that_cannot_work_are_refused() {
             .map_err(|e| e.to_string())
     };
     resume(&good).unwrap();
+    // A driven grain removed (`World::remove`) takes its drive: the dump still resumes.
+    let mut gone = world(PADDLE);
+    let removed = gone.remove(|b| b.kind == BodyKind::Kinematic);
+    assert_eq!(removed.len(), 1);
+    assert!(gone.drivers.is_empty());
+    resume(&serde_json::to_value(Dump::of(&gone)).unwrap()).unwrap();
     let mut d = good.clone();
     d["drivers"] = serde_json::json!([]);
     assert!(

@@ -237,6 +237,8 @@ impl World {
         self.step_start.retain(|_| stays.next().unwrap_or(true));
         self.soft.reindex(&to);
         self.work = Workspace::default();
+        // A driven grain that leaves takes its drive with it.
+        self.drivers.retain(|d| !gone.iter().any(|b| b.id == d.id));
         gone
     }
 
