@@ -831,9 +831,12 @@ fn load(args: &Args) -> Result<(World, u64)> {
             let mut given = table.clone();
             given.step = None;
             solver.merge(&given);
-            let mut world = dump
-                .to_world()
-                .with_context(|| format!("cannot resume from {}", path.display()))?;
+            let mut world = dump.to_world().with_context(|| {
+                format!(
+                    "cannot resume from {} with the command line's solver settings",
+                    path.display()
+                )
+            })?;
             soft_only(world.settings.model)?;
             if let Some(h) = step {
                 world.set_step(h);

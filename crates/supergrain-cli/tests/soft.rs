@@ -763,6 +763,24 @@ fn set_overrides_a_solver_key_as_the_scene_would() {
     assert_eq!(d["solver"]["step"], 0.005);
     assert_eq!(d["step"], 400);
     assert_eq!(d["clock"], serde_json::json!([200, 2.0]));
+    // The same step changes nothing: bit for bit the plain resume.
+    let plain_resume = run(&["run", "--resume", p(&a)], "d.json");
+    let same_step = run(&["run", "--resume", p(&a), "--set", "step=0.01"], "e.json");
+    assert_eq!(plain_resume, same_step);
+    // A measure with no row to draw (a surface of one grain) gives an empty chart, not exit 1.
+    let measures = dir.path().join("m");
+    ok(&sg(&[
+        "run",
+        p(&plain),
+        "--measure",
+        "surface",
+        "--steps",
+        "5",
+        "--measures",
+        p(&measures),
+        "-q",
+    ]));
+    assert!(measures.join("surface.png").exists());
     // Nonsense: named, exit 1, no dump.
     let out = dir.path().join("never.json");
     for (set, says) in [

@@ -392,6 +392,19 @@ impl Drive {
         Pose::from_parts(turned + self.offset(t), base.angle() + angle)
     }
 
+    /// The fastest a point of a driven grain centred at `center`, reaching `reach` from it, ever
+    /// moves: its turn's rate times its farthest point's distance from the pivot, plus the
+    /// shake's peak speed `2 pi f |A|`.
+    pub fn peak_speed(&self, center: Vec2, reach: f64) -> f64 {
+        let turn = self.turn.map_or(0.0, |(pivot, rate)| {
+            rate.to_radians().abs() * ((center - pivot).norm() + reach)
+        });
+        let shake = self
+            .shake
+            .map_or(0.0, |(a, f)| std::f64::consts::TAU * f * a.norm());
+        turn + shake
+    }
+
     /// Writes its keys into a driven grain's record (a dump's `drivers`).
     pub fn keys(&self) -> (Option<TurnSpec>, Option<ShakeSpec>) {
         let mut spec = BoundarySpec::default();

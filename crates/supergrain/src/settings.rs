@@ -568,10 +568,37 @@ impl SolverTable {
         default_model: Model,
         base: impl Fn(Model) -> Settings,
     ) -> Result<Settings, String> {
-        let mut s = base(self.model.unwrap_or(default_model));
+        let model = self.model.unwrap_or(default_model);
+        // The old form's soft table (a dump's) alone: beside the flat keys it would override
+        // them unseen. (`sleep_islands` stood flat beside it in those dumps.)
+        if self.legacy_soft.is_some()
+            && let Some(key) = SOFT_KEYS
+                .iter()
+                .copied()
+                .find(|&k| k != "sleep_islands" && self.given(k))
+        {
+            return Err(format!(
+                "`soft` (the old form of the soft step's keys) and `{key}` are both given: \
+                 give the keys flat, without `soft`"
+            ));
+        }
+        if model == Model::Paper
+            && let Some(key) = self.soft_key()
+        {
+            return Err(format!(
+                "`{key}` is the soft model's (model = \"soft\"): the paper's projection has no \
+                 such setting; remove it, or use the soft model"
+            ));
+        }
+        let mut s = base(model);
         self.apply(&mut s)?;
         s.validate()?;
         Ok(s)
+    }
+
+    /// Whether the old form's soft table is given (dumps only: a scene refuses it).
+    pub fn has_legacy_soft(&self) -> bool {
+        self.legacy_soft.is_some()
     }
 
     /// The first key given that only the soft step reads.
@@ -674,11 +701,20 @@ impl SolverTable {
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');
         let literal = ["true", "false", "nan", "inf"].contains(&value);
-        if bare && !literal {
-            read(&format!("{value:?}"))
+        let t = if bare && !literal {
+            read(&format!("{value:?}"))?
         } else {
-            read(value)
+            read(value)?
+        };
+        // One key: a value with a line break in it must not set a second one (`model`).
+        let mut rest = t.clone();
+        rest.forget(key);
+        if rest != SolverTable::default() {
+            return Err(format!(
+                "`{key} = {value}` sets more than `{key}`: one key per setting"
+            ));
         }
+        Ok(t)
     }
 }
 

@@ -149,6 +149,17 @@ fn driven_grains_that_cannot_work_are_refused() {
         "[[grain]]\ncenter = [0.0, 1.2]\nradius = 0.2\nturn = { about = [0.0], rate = 1.0 }\n",
         "turn's about needs two finite numbers",
     );
+    // A drive faster than a grain may move in a step, as a placed grain's velocity is checked.
+    refused(
+        "[[grain]]\ncenter = [0.0, 1.2]\nsemi_axes = [0.5, 0.1]\nexponent = 10.0\n\
+         turn = { about = [0.0, 1.2], rate = 36000.0 }\n",
+        "in one step",
+    );
+    refused(
+        "[[grain]]\ncenter = [0.0, 1.2]\nradius = 0.2\n\
+         shake = { amplitude = [1.0, 0.0], frequency = 16.0 }\n",
+        "in one step",
+    );
     let paper = scene(PADDLE)
         .replace("model = \"soft\"", "model = \"paper\"")
         .replace("friction = 0.5\n", "");
@@ -181,6 +192,12 @@ fn driven_grains_that_cannot_work_are_refused() {
             .unwrap_err()
             .contains("needs its drive in \"drivers\"")
     );
+    let mut d = good.clone();
+    d["drivers"][0].as_object_mut().unwrap().remove("turn");
+    assert!(resume(&d).unwrap_err().contains("needs `turn` or `shake`"));
+    let mut d = good.clone();
+    d["drivers"][0]["center"] = serde_json::json!([0.3, 1.2]);
+    assert!(resume(&d).unwrap_err().contains("but the particle is"));
     let mut d = good.clone();
     d["drivers"][0]["id"] = serde_json::json!(7);
     assert!(resume(&d).unwrap_err().contains("no particle has id 7"));

@@ -262,6 +262,13 @@ fn one_key_is_set_from_its_text_and_nonsense_changes_nothing() {
     assert_eq!(s.rotation, Rotation::Inertia);
     let before = s;
     for (key, value, says) in [
+        // A line break must not set a second key (the hostile tester's `model` injection).
+        (
+            "sleep_islands",
+            "false\nmodel = \"paper\"",
+            "one key per setting",
+        ),
+        ("step", "0.005\nmax_overlap = 0.001", "one key per setting"),
         ("contact_hertz", "-3", "contact_hertz"),
         ("substeps", "0", "substeps"),
         ("contact_herz", "30", "no solver key"),
@@ -349,4 +356,52 @@ fn the_readme_shows_every_key() {
             "the README's [solver] reference does not show `{key}`"
         );
     }
+}
+
+/// Keys that say nothing where they are are refused, not ignored: the soft step's keys under the
+/// paper's model (scene and dump), a scene's `soft` table (a dump's old form), the old table
+/// beside the flat keys it would override, and `max_overlap` in a dump.
+#[test]
+fn keys_that_would_be_ignored_or_override_unseen_are_refused() {
+    for key in [
+        "substeps = 4",
+        "contact_hertz = 5.0",
+        "carry_reach = 0.0",
+        "push_out = 2.0",
+    ] {
+        let e = Scene::from_toml(&scene(&format!("model = \"paper\"\n{key}")))
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("is the soft model's"), "{key}: {e}");
+    }
+    let legacy = "soft = { substeps = 7, contact_hertz = 5.0, damping_ratio = 1.0, push_out = 1.0, \
+                  restitution_threshold = 1.0, linear_damping = 0.0, angular_damping = 0.0, slop = 0.0 }";
+    let e = Scene::from_toml(&scene(&format!("model = \"soft\"\n{legacy}")))
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("unknown key `soft`"), "{e}");
+    let world = World::new(&Scene::from_toml(&scene("model = \"soft\"")).unwrap());
+    let good: serde_json::Value = serde_json::to_value(Dump::of(&world)).unwrap();
+    let refused = |d: &serde_json::Value| {
+        Dump::from_json(&d.to_string())
+            .unwrap()
+            .to_world()
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
+    };
+    let mut d = good.clone();
+    d["solver"]["soft"] = serde_json::json!({
+        "substeps": 5, "contact_hertz": 33.0, "damping_ratio": 9.0, "push_out": 2.0,
+        "restitution_threshold": 0.5, "slop": 0.001, "linear_damping": 0.1, "angular_damping": 0.05
+    });
+    assert!(refused(&d).contains("are both given"), "{}", refused(&d));
+    let mut d = good.clone();
+    d["solver"]["max_overlap"] = serde_json::json!(0.01);
+    assert!(refused(&d).contains("max_overlap is a scene's"));
+    let mut d = good;
+    d["solver"]["model"] = serde_json::json!("paper");
+    assert!(refused(&d).contains("is the soft model's"));
 }

@@ -506,6 +506,13 @@ impl Dump {
                          without the soft step's parts)"
                     )));
                 }
+                if t.max_overlap.is_some() {
+                    return Err(DumpError::Solver(
+                        "max_overlap is a scene's (its stiffness follows from the scene's \
+                         grains); a dump holds the contact_hertz and substeps it gave"
+                            .into(),
+                    ));
+                }
                 t.settings(Model::Paper, legacy_settings)
                     .map_err(DumpError::Solver)?
             }
@@ -848,7 +855,27 @@ impl Dump {
                 return Err(bad(format!("particle {} is driven twice", d.id)));
             }
             let drive = Drive::from_keys(d.turn.as_ref(), d.shake.as_ref(), None).map_err(bad)?;
+            if drive.is_still() {
+                return Err(bad("needs `turn` or `shake`".into()));
+            }
             let base = Pose::new(Vec2::from(d.center), d.angle).map_err(|e| bad(e.to_string()))?;
+            // Where the drive has it now is where the particle is (the run wrote both).
+            let now = drive.pose_at(&base, world.time());
+            let off = (now.center() - body.center).norm() + (now.angle() - body.angle).abs();
+            let close = off <= 1e-9 * (1.0 + body.center.norm() + body.angle.abs());
+            if !close {
+                return Err(bad(format!(
+                    "its drive has particle {} at ({}, {}) turned {} now, but the particle is \
+                     at ({}, {}) turned {}",
+                    d.id,
+                    now.center().x,
+                    now.center().y,
+                    now.angle(),
+                    body.center.x,
+                    body.center.y,
+                    body.angle
+                )));
+            }
             world.drivers.push(Driver {
                 id: body.id,
                 base,

@@ -349,6 +349,10 @@ pub fn surface_line(boxes: &[Aabb]) -> Option<(f64, usize)> {
         right - SURFACE_TRIM * (right - left),
     );
     let bins = ((hi - lo) / bin).floor().max(0.0) as usize;
+    // Fewer than three bins fit no line (a grain or two: narrower than a bin, none).
+    if bins < 3 {
+        return None;
+    }
     let mut tops = vec![f64::NEG_INFINITY; bins];
     for b in boxes {
         let x = 0.5 * (b.min.x + b.max.x);

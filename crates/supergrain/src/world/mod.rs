@@ -384,6 +384,10 @@ impl World {
     /// the soft model keeps velocities as they are. The clock goes on from the time reached
     /// ([`World::clock`]), so driven boundaries go on from where they are.
     pub fn set_step(&mut self, step: f64) {
+        // The same step changes nothing (a restarted clock would round the time differently).
+        if step == self.settings.step {
+            return;
+        }
         self.clock = (self.step, self.time());
         let ratio = step / self.settings.step;
         if ratio != 1.0 {

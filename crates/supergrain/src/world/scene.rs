@@ -325,6 +325,14 @@ impl Scene {
             .as_ref()
             .map(|t| t.get_ref().clone())
             .unwrap_or_default();
+        if s.has_legacy_soft() {
+            return Err(invalid(
+                solver_line.clone(),
+                "solver: unknown key `soft` (a dump's old form): write the soft step's keys in \
+                 [solver] itself"
+                    .into(),
+            ));
+        }
         let mut settings = s
             .settings(Model::Soft, Settings::of_model)
             .map_err(|e| invalid(solver_line.clone(), format!("solver: {e}")))?;
@@ -915,8 +923,12 @@ impl Scene {
                     self.grains[j].line
                 )));
             }
-            checks::check_speed(&self.settings, g.velocity.norm(), g.shape.min_semi_axis())
-                .map_err(error)?;
+            // (A driven grain: the fastest its drive moves any point of it.)
+            let speed = g.velocity.norm()
+                + g.drive.map_or(0.0, |d| {
+                    d.peak_speed(g.pose.center(), g.shape.bounding_radius())
+                });
+            checks::check_speed(&self.settings, speed, g.shape.min_semi_axis()).map_err(error)?;
             smallest = smallest.min(g.shape.min_semi_axis());
             radii[0] = radii[0].min(g.shape.bounding_radius());
             radii[1] = radii[1].max(g.shape.bounding_radius());
