@@ -72,7 +72,7 @@ pub struct Args {
     /// superellipse: Newton with a proof for convex pairs, a search of one shape's boundary for
     /// stars, the quadtree where neither proves anything), quadtree (the paper's certified
     /// quadtree alone, for every pair) or analytic (centre distance, circles only: the paper's
-    /// comparison). The same as --set narrow_phase='"NAME"'.
+    /// comparison). The same as --set narrow_phase=NAME.
     #[arg(long, value_name = "NAME")]
     narrow_phase: Option<String>,
     /// Override the scene's (or the dump's) sleep radius; 0 turns sleeping off and wakes every
@@ -91,7 +91,7 @@ pub struct Args {
     #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = non_negative_number)]
     carry_reach: Option<f64>,
     /// Override one of the scene's (or the dump's) [solver] keys, as the scene would write it
-    /// (repeatable): --set contact_hertz=30 --set substeps=8 --set narrow_phase='"quadtree"'.
+    /// (repeatable): --set contact_hertz=30 --set substeps=8 --set narrow_phase=quadtree.
     /// Checked as the scene's are; the keys are listed in the README's scene reference. Not
     /// `model` (a run's grains are built for it) nor `max_overlap` (set it in the scene).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -769,6 +769,29 @@ fn overrides(args: &Args) -> Result<SolverTable> {
             bail!("--set {kv}: expected KEY=VALUE (for example --set contact_hertz=30)");
         };
         one(key.trim(), value.trim(), &format!("--set {kv}"))?;
+    }
+    // A key given by `--set` and by its own flag: which was meant is not clear.
+    for (flag, key, given) in [
+        (
+            "--narrow-phase",
+            "narrow_phase",
+            args.narrow_phase.is_some(),
+        ),
+        (
+            "--sleep-radius",
+            "sleep_radius",
+            args.sleep_radius.is_some(),
+        ),
+        ("--carry-reach", "carry_reach", args.carry_reach.is_some()),
+    ] {
+        if given
+            && args
+                .set
+                .iter()
+                .any(|kv| kv.split('=').next().map(str::trim) == Some(key))
+        {
+            bail!("{flag} and --set {key}=... both set `{key}`: give one");
+        }
     }
     if let Some(n) = &args.narrow_phase {
         one(

@@ -781,6 +781,17 @@ fn set_overrides_a_solver_key_as_the_scene_would() {
         "-q",
     ]));
     assert!(measures.join("surface.png").exists());
+    // A key set by --set and by its flag: refused, not one silently winning.
+    let err = failed(&sg(&[
+        "run",
+        p(&plain),
+        "--set",
+        "sleep_radius=0.01",
+        "--sleep-radius",
+        "0.02",
+        "-q",
+    ]));
+    assert!(err.contains("both set `sleep_radius`"), "{err}");
     // Nonsense: named, exit 1, no dump.
     let out = dir.path().join("never.json");
     for (set, says) in [

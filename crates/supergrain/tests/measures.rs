@@ -145,3 +145,12 @@ fn a_profile_reads_each_slices_mean_velocity() {
         assert!((s.v.x - (s.y - 0.05)).abs() < 1e-9, "{s:?}");
     }
 }
+
+/// An empty region packs at 0, written "0" in the CSV (a sum of nothing is -0 in Rust).
+#[test]
+fn an_empty_region_packs_at_zero_not_minus_zero() {
+    let w = world(Vec::new());
+    let p = packing_in(&w, &Aabb::new(Vec2::new(-1.0, 0.0), Vec2::new(1.0, 1.0)));
+    assert_eq!(p.grains, 0);
+    assert_eq!(p.area_fraction.to_string(), "0");
+}

@@ -182,8 +182,9 @@ pub fn write_forces_frame(world: &World, out: &mut impl Write) -> io::Result<()>
             f.point.y,
             f.normal.x,
             f.normal.y,
-            f.normal_force,
-            f.tangent_force
+            // (`+ 0.0`: a force of -0, from a negated 0, is written 0.)
+            f.normal_force + 0.0,
+            f.tangent_force + 0.0
         )?;
     }
     Ok(())

@@ -237,7 +237,9 @@ pub fn packing_in(world: &World, window: &Aabb) -> Packing {
         .iter()
         .filter(|b| b.kind.is_dynamic())
         .map(|b| super::packing::shape_area_in(&b.shape, &b.pose(), window))
-        .sum();
+        .sum::<f64>()
+        // (A sum of nothing is -0 in Rust, written "-0": 0.)
+        + 0.0;
     let inside: Vec<bool> = world
         .bodies
         .iter()
