@@ -759,53 +759,40 @@ struct Every {
 /// key (`--narrow-phase`, `--sleep-radius`, `--carry-reach`), each checked as a scene's.
 fn overrides(args: &Args) -> Result<SolverTable> {
     let mut table = SolverTable::default();
-    let mut one = |key: &str, value: &str, flag: &str| -> Result<()> {
-        let t = SolverTable::one(key, value).map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
-        table.merge(&t);
-        Ok(())
-    };
     for kv in &args.set {
         let Some((key, value)) = kv.split_once('=') else {
             bail!("--set {kv}: expected KEY=VALUE (for example --set contact_hertz=30)");
         };
-        one(key.trim(), value.trim(), &format!("--set {kv}"))?;
+        let t = SolverTable::one(key.trim(), value.trim())
+            .map_err(|e| anyhow::anyhow!("--set {kv}: {e}"))?;
+        table.merge(&t);
     }
-    // A key given by `--set` and by its own flag: which was meant is not clear.
-    for (flag, key, given) in [
+    // `+ 0.0`: -0 is 0 (and is written so in dumps).
+    let flags = [
         (
             "--narrow-phase",
             "narrow_phase",
-            args.narrow_phase.is_some(),
+            args.narrow_phase.as_ref().map(|n| format!("{n:?}")),
         ),
         (
             "--sleep-radius",
             "sleep_radius",
-            args.sleep_radius.is_some(),
+            args.sleep_radius.map(|r| (r + 0.0).to_string()),
         ),
-        ("--carry-reach", "carry_reach", args.carry_reach.is_some()),
-    ] {
-        if given
-            && args
-                .set
-                .iter()
-                .any(|kv| kv.split('=').next().map(str::trim) == Some(key))
-        {
+        (
+            "--carry-reach",
+            "carry_reach",
+            args.carry_reach.map(|r| (r + 0.0).to_string()),
+        ),
+    ];
+    for (flag, key, value) in flags {
+        let Some(value) = value else { continue };
+        // A key given by `--set` and by its own flag: which was meant is not clear.
+        if table.given(key) {
             bail!("{flag} and --set {key}=... both set `{key}`: give one");
         }
-    }
-    if let Some(n) = &args.narrow_phase {
-        one(
-            "narrow_phase",
-            &format!("{n:?}"),
-            &format!("--narrow-phase {n}"),
-        )?;
-    }
-    // `+ 0.0`: -0 is 0 (and is written so in dumps).
-    if let Some(r) = args.sleep_radius {
-        one("sleep_radius", &(r + 0.0).to_string(), "--sleep-radius")?;
-    }
-    if let Some(r) = args.carry_reach {
-        one("carry_reach", &(r + 0.0).to_string(), "--carry-reach")?;
+        let t = SolverTable::one(key, &value).map_err(|e| anyhow::anyhow!("{flag}: {e}"))?;
+        table.merge(&t);
     }
     Ok(table)
 }
@@ -839,6 +826,8 @@ fn load(args: &Args) -> Result<(World, u64)> {
             let solver = dump
                 .solver
                 .get_or_insert_with(|| SolverTable::of(&Settings::default()));
+            // (A dump that does not say is the paper's.)
+            soft_only(solver.model.unwrap_or(Model::Paper))?;
             if let Some(r) = table.sleep_radius
                 && r > 0.0
                 && table.sleep_steps.or(solver.sleep_steps).unwrap_or(0) == 0
@@ -860,7 +849,6 @@ fn load(args: &Args) -> Result<(World, u64)> {
                     path.display()
                 )
             })?;
-            soft_only(world.settings.model)?;
             if let Some(h) = step {
                 world.set_step(h);
                 // Checked as a dump of the new step would be (one too long for the grains).

@@ -412,8 +412,9 @@ impl Sim {
                 continue;
             }
             m.kind = series.kind.name();
-            m.summary = series.summary(world);
-            if let Some((what, v)) = series.headline(world) {
+            let (summary, headline) = series.reading(world);
+            m.summary = summary;
+            if let Some((what, v)) = headline {
                 m.what = what;
                 if m.points.len() == MEASURE_POINTS {
                     m.points.remove(0);

@@ -404,11 +404,11 @@ macro_rules! solver_keys {
                 }
             }
 
-            /// The given keys over `settings`, each checked.
+            /// The given keys over `settings` (ranges are [`Settings::validate`]'s, which every
+            /// caller runs after).
             pub fn apply(&self, settings: &mut Settings) -> Result<(), String> {
                 $(
                     if let Some(value) = self.$key {
-                        value.check($rule).map_err(|e| format!("{} {e}", stringify!($key)))?;
                         set_key!(settings, value, |$s| $get $(, |$t, $v| $set)?)?;
                     }
                 )*
@@ -419,7 +419,7 @@ macro_rules! solver_keys {
             }
 
             /// Whether `key` is given.
-            fn given(&self, key: &str) -> bool {
+            pub fn given(&self, key: &str) -> bool {
                 match key {
                     $( stringify!($key) => self.$key.is_some(), )*
                     _ => false,
@@ -692,11 +692,10 @@ impl SolverTable {
         };
         // A shell drops the quotes of `--set narrow_phase="quadtree"`: a bare word is read as
         // the string it names (and refused as one, where the key takes a number).
-        let bare = !value.is_empty()
-            && value
-                .chars()
-                .next()
-                .is_some_and(|c| c.is_ascii_alphabetic())
+        let bare = value
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_alphabetic())
             && value
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_');

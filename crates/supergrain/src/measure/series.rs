@@ -152,57 +152,53 @@ impl Series {
         Ok(())
     }
 
-    /// The one number a live chart follows (the viewer's), with its name: the grains taken by
-    /// every sink, the total kinetic energy, the surface's angle, the region's area fraction;
-    /// `None` for a profile (many numbers) and a surface too small to fit.
-    pub fn headline(&self, world: &World) -> Option<(&'static str, f64)> {
-        match self.kind {
-            SeriesKind::Discharge => Some((
-                "grains taken",
-                world.sinks.iter().map(|s| s.grains).sum::<u64>() as f64,
-            )),
-            SeriesKind::Energy => Some(("kinetic energy", {
-                let (_, t, r) = energy(world);
-                t + r
-            })),
-            SeriesKind::Surface => surface_angle(world).map(|(a, _)| ("degrees", a)),
-            SeriesKind::Packing => Some((
-                "area fraction",
-                packing_in(world, &self.window()).area_fraction,
-            )),
-            SeriesKind::Profile => None,
-        }
-    }
-
     /// A line for the run's summary.
     pub fn summary(&self, world: &World) -> String {
+        self.reading(world).0
+    }
+
+    /// The summary line, and the one number a live chart follows (the viewer's) with its name:
+    /// the grains taken by every sink, the total kinetic energy, the surface's angle, the
+    /// region's area fraction; `None` for a profile (many numbers) and a surface too small to
+    /// fit. One measurement gives both.
+    pub fn reading(&self, world: &World) -> (String, Option<(&'static str, f64)>) {
         match self.kind {
             SeriesKind::Discharge => {
                 let taken: u64 = world.sinks.iter().map(|s| s.grains).sum();
-                format!(
-                    "discharge: {taken} grains taken by {} sinks",
-                    world.sinks.len()
+                (
+                    format!(
+                        "discharge: {taken} grains taken by {} sinks",
+                        world.sinks.len()
+                    ),
+                    Some(("grains taken", taken as f64)),
                 )
             }
             SeriesKind::Energy => {
                 let (n, t, r) = energy(world);
-                format!(
-                    "kinetic energy of the {n} grains: {t:.4e} translational, {r:.4e} \
-                     rotational"
+                (
+                    format!(
+                        "kinetic energy of the {n} grains: {t:.4e} translational, {r:.4e} \
+                         rotational"
+                    ),
+                    Some(("kinetic energy", t + r)),
                 )
             }
             SeriesKind::Surface => match surface_angle(world) {
-                Some((degrees, points)) => {
-                    format!("free surface: {degrees:.2} degrees (a line through {points} bins)")
-                }
-                None => "free surface: too few grains to fit".into(),
+                Some((degrees, points)) => (
+                    format!("free surface: {degrees:.2} degrees (a line through {points} bins)"),
+                    Some(("degrees", degrees)),
+                ),
+                None => ("free surface: too few grains to fit".into(), None),
             },
             SeriesKind::Packing => {
                 let p = packing_in(world, &self.window());
-                format!(
-                    "packing: {} grains in the region, area fraction {:.4}, mean contact number \
-                     {:.3}",
-                    p.grains, p.area_fraction, p.contact_number
+                (
+                    format!(
+                        "packing: {} grains in the region, area fraction {:.4}, mean contact \
+                         number {:.3}",
+                        p.grains, p.area_fraction, p.contact_number
+                    ),
+                    Some(("area fraction", p.area_fraction)),
                 )
             }
             SeriesKind::Profile => {
@@ -212,7 +208,10 @@ impl Series {
                     .filter(|s| s.grains > 0)
                     .map(|s| format!("{:.3}: {:.3}", s.y, s.v.x))
                     .collect();
-                format!("velocity profile (y: mean vx): {}", text.join(", "))
+                (
+                    format!("velocity profile (y: mean vx): {}", text.join(", ")),
+                    None,
+                )
             }
         }
     }

@@ -652,12 +652,7 @@ fn find_contacts(
     // A pair is tested when one of its grains moves under its contacts: awake and dynamic (a
     // driven grain against a sleeper, a fixed grain or a wall has no mass on either side; the
     // sleepers near a moving driven grain were woken).
-    let free: Vec<bool> = bodies
-        .iter()
-        .zip(awake)
-        .map(|(b, &a)| a && b.kind.is_dynamic())
-        .collect();
-    let free = &free;
+    let free = |i: usize| awake[i] && bodies[i].kind.is_dynamic();
     work.pairs.clear();
     work.pairs.par_extend(
         (0..bodies.len().div_ceil(PAIR_CHUNK))
@@ -667,7 +662,7 @@ fn find_contacts(
                 for i in c * PAIR_CHUNK..((c + 1) * PAIR_CHUNK).min(bodies.len()) {
                     for &j in near.later(i) {
                         let j = j as usize;
-                        if (free[i] || free[j])
+                        if (free(i) || free(j))
                             && (if disks[i] && disks[j] {
                                 boxes[i].grown(SPECULATIVE).intersects(&boxes[j])
                             } else {
@@ -776,7 +771,7 @@ fn find_contacts(
     // order of the grains and walls.
     let at_walls: Vec<(usize, Vec<Constraint>)> = (0..bodies.len())
         .into_par_iter()
-        .filter(|&i| free[i])
+        .filter(|&i| free(i))
         .map(|i| {
             let b = &bodies[i];
             let pose = &predicted[i];
