@@ -549,12 +549,12 @@ fn face_patch(
         }
         None => (-half, half),
     };
-    if !(hi - lo > min_gap) {
+    if hi - lo <= min_gap || (hi - lo).is_nan() {
         return None;
     }
     let from = coord(deepest).clamp(lo, hi);
     let from_gap = gap(on(from)?);
-    if !(from_gap < margin) {
+    if from_gap >= margin || from_gap.is_nan() {
         return None;
     }
     let end = |t: f64| -> Option<f64> {
