@@ -27,32 +27,35 @@ from concurrent.futures import ThreadPoolExecutor
 
 D_GRAIN = 0.2  # mean diameter
 STEP = 0.005
-GRAINS = 3800
+GRAINS = 3800  # in a silo 8 wide; as many more as a wider silo is wider
 
 
-def scene(nd: float) -> str:
+def scene(nd: float, silo: float = 8.0, seed: int = 0) -> str:
     width = nd * D_GRAIN
-    half = (4.0 - width / 2) / 2
-    rng = random.Random(int(nd * 100))
+    w2 = silo / 2
+    half = (w2 - width / 2) / 2
+    # Seed 0 draws the radii as this script always has; others draw their own.
+    rng = random.Random(int(nd * 100) + 100003 * seed)
+    grains_total = round(GRAINS * silo / 8.0)
     spacing = 0.23
-    cols = int(7.8 / spacing)
-    x0 = -4.0 + (8.0 - (cols - 1) * spacing) / 2
+    cols = int((silo - 0.2) / spacing)
+    x0 = -w2 + (silo - (cols - 1) * spacing) / 2
     y = 2.2 + spacing / 2 + 0.01
     grains = []
-    while len(grains) < GRAINS:
+    while len(grains) < grains_total:
         for c in range(cols):
-            if len(grains) == GRAINS:
+            if len(grains) == grains_total:
                 break
             grains.append((x0 + c * spacing, y, rng.uniform(0.09, 0.11)))
         y += spacing
-    text = f"""# A flat-bottomed silo 8 wide (scripts/beverloo.py): planks 0.4 thick either side of an
-# orifice {nd:g} grain diameters wide (D = {width:.2f}), {GRAINS} disks of diameter 0.18-0.22
+    text = f"""# A flat-bottomed silo {silo:g} wide (scripts/beverloo.py): planks 0.4 thick either side of an
+# orifice {nd:g} grain diameters wide (D = {width:.2f}), {grains_total} disks of diameter 0.18-0.22
 # placed on a lattice, a sink under the orifice.
 seed = 1
 
 [box]
-left = -4.0
-right = 4.0
+left = {-w2}
+right = {w2}
 floor = 0.0
 top = {y + 1.0:.3f}
 
@@ -61,31 +64,31 @@ model = "soft"
 step = {STEP}
 
 [[grain]]
-center = [{-4.0 + half}, 2.0]
+center = [{-w2 + half}, 2.0]
 semi_axes = [{half}, 0.2]
 exponent = 50.0
 fixed = true
 
 [[grain]]
-center = [{4.0 - half}, 2.0]
+center = [{w2 - half}, 2.0]
 semi_axes = [{half}, 0.2]
 exponent = 50.0
 fixed = true
 
 [[sink]]
-region = [[-4.0, 4.0], [0.0, 1.0]]
+region = [[{-w2}, {w2}], [0.0, 1.0]]
 """
     for x, yy, r in grains:
         text += f"\n[[grain]]\ncenter = [{x:.4f}, {yy:.4f}]\nradius = {r:.4f}\n"
     return text
 
 
-def run(binary: str, out: str, nd: float, chunk: int, full: int, chunks: int):
+def run(binary: str, out: str, nd: float, chunk: int, chunks: int, silo: float, seed: int):
     """Runs the silo of `nd` diameters with the discharge measured every `chunk` steps; returns
     its rows as (step, grains taken, grains in the box)."""
     path = os.path.join(out, f"silo{nd:g}.toml")
     with open(path, "w") as f:
-        f.write(scene(nd))
+        f.write(scene(nd, silo, seed))
     measures = os.path.join(out, f"silo{nd:g}")
     cmd = [binary, "--threads", "1", "run", path, "--steps", str(chunk * chunks),
            "--measure", "discharge", "--every", str(chunk), "--measures", measures, "-q"]
@@ -116,7 +119,13 @@ def main():
     ap.add_argument("--widths", default="5,6,8,10,12,15")
     ap.add_argument("--out", default="beverloo-out")
     ap.add_argument("--chunk", type=int, default=200)
-    ap.add_argument("--full", type=int, default=1700)
+    ap.add_argument("--full", type=int, default=None,
+                    help="fit while more grains than this are in the box (default: 1,700 in a "
+                    "silo 8 wide, as many more as the fill of a wider silo must be higher)")
+    ap.add_argument("--silo", type=float, default=8.0,
+                    help="the silo's width (8: 40 grain diameters); its grains grow with it")
+    ap.add_argument("--seed", type=int, default=0,
+                    help="which draw of the grains' radii (0: the script's first)")
     ap.add_argument("--chunks", type=int, default=40)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--scene-only", type=float, metavar="D",
@@ -126,12 +135,14 @@ def main():
     if a.scene_only is not None:
         path = os.path.join(a.out, f"silo{a.scene_only:g}.toml")
         with open(path, "w") as f:
-            f.write(scene(a.scene_only))
+            f.write(scene(a.scene_only, a.silo, a.seed))
         print(path)
         return 0
+    if a.full is None:
+        a.full = round(1700 * (a.silo / 8.0) ** 2)
     widths = [float(w) for w in a.widths.split(",")]
     with ThreadPoolExecutor(a.jobs) as pool:
-        results = list(pool.map(lambda nd: run(a.bin, a.out, nd, a.chunk, a.full, a.chunks), widths))
+        results = list(pool.map(lambda nd: run(a.bin, a.out, nd, a.chunk, a.chunks, a.silo, a.seed), widths))
     table = []
     print("D/d   rate (grains/s)   points   counts (step, taken, in the box)")
     for nd, rows in results:
