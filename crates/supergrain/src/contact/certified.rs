@@ -348,6 +348,16 @@ pub(crate) fn certified_wall(
 /// `(u, v) = sgn (|A|, |B|)^(q-1) / ||(A, B)||_q^(q-1)`, `A = m_x s_x`, `B = m_y s_y`,
 /// `1/e + 1/q = 1`. `None` for other shapes or a direction that is zero or not finite.
 fn support_point(shape: &Superellipse, m: Vec2) -> Option<Vec2> {
+    support_point_by(shape, m, f64::powf)
+}
+
+/// [`support_point`] with the powers of `pow` (the flat grains' path takes [`pow32`]'s: its
+/// point only places a contact).
+pub(super) fn support_point_by(
+    shape: &Superellipse,
+    m: Vec2,
+    pow: fn(f64, f64) -> f64,
+) -> Option<Vec2> {
     let [e, ey] = shape.exponents();
     if e != ey || e <= 1.0 {
         return None;
@@ -364,10 +374,10 @@ fn support_point(shape: &Superellipse, m: Vec2) -> Option<Vec2> {
         if e == 2.0 {
             r.powi(k as i32)
         } else {
-            r.powf(k)
+            pow(r, k)
         }
     };
-    let norm = (power(ra, q) + power(rb, q)).powf(1.0 / q);
+    let norm = pow(power(ra, q) + power(rb, q), 1.0 / q);
     let u = a.signum() * power(ra / norm, q - 1.0);
     let v = b.signum() * power(rb / norm, q - 1.0);
     Some(Vec2::new(s.x * u, s.y * v))
@@ -698,7 +708,12 @@ fn half_plane(own: &Superellipse, x: Vec2, f_own_lo: f64) -> Option<(Vec2, f64)>
 /// other at `rel`), given a half-plane `n . y <= s_own` that holds own: other's sublevel set at
 /// `level` lies strictly beyond its line. The proof is as tight as `n` is close to the normal
 /// of the common tangent.
-fn proves_above(plane: (Vec2, f64), other: &Superellipse, rel: &Pose, level: f64) -> bool {
+pub(super) fn proves_above(
+    plane: (Vec2, f64),
+    other: &Superellipse,
+    rel: &Pose,
+    level: f64,
+) -> bool {
     let (n, s_own) = plane;
     if !(n.is_finite() && level.is_finite() && s_own.is_finite()) || n == Vec2::ZERO {
         return false;

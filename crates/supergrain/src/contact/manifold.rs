@@ -68,7 +68,7 @@ impl Manifold {
         Some(m)
     }
 
-    fn new(normal: Vec2, middle: Vec2, depth: f64) -> Self {
+    pub(super) fn new(normal: Vec2, middle: Vec2, depth: f64) -> Self {
         let p = ManifoldPoint {
             point: middle,
             separation: -depth,
@@ -125,7 +125,7 @@ impl Manifold {
     /// and never carries a grain lying flat (the deepest point of a flat face jumps from end to
     /// end as the grain tips). Keeping or dropping the middle by a threshold instead made a
     /// heap of blocks tremble at 0.2 units/s, as contacts crossed it.
-    fn sides(&mut self, patch: Option<[(Vec2, f64); 2]>, tolerance: f64) {
+    pub(super) fn sides(&mut self, patch: Option<[(Vec2, f64); 2]>, tolerance: f64) {
         if let Some(sides) = patch {
             self.points[0].separation += tolerance;
             for (k, (point, separation)) in sides.into_iter().enumerate() {
@@ -176,7 +176,7 @@ fn separation(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
 /// exponent 85, and 0.01 outside read 0.0034. Side points that read five times too deep rocked a
 /// heap of blocks (exponents 50-200) from end to end every step, and it never rested
 /// (docs/physics.md, "Overlap"). Powers by [`pow32`].
-fn separation32(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
+pub(super) fn separation32(s: &Superellipse, pose: &Pose, q: Vec2) -> f64 {
     let q = pose.to_local(q);
     let Some((first, along)) = gauge_step(s, q) else {
         return f64::INFINITY;
@@ -457,7 +457,7 @@ pub fn wall_manifold(
 const FLAT: f64 = 8.0;
 
 /// Whether both of a grain's exponents are at least [`FLAT`].
-fn flat(s: &Superellipse) -> bool {
+pub(super) fn flat(s: &Superellipse) -> bool {
     s.exponents().iter().all(|&e| e >= FLAT)
 }
 
@@ -495,43 +495,75 @@ fn face_patch(
     margin: f64,
     min_gap: f64,
 ) -> Option<[(Vec2, f64); 2]> {
-    let normal = out_point(shape, pose, out);
-    let across = normal.x == 0.0;
-    // The face runs to its corners, where both terms of `f` are 1/2 (the diagonal of a square
-    // superellipse): the face's coordinate `t` is the boundary's graph over it, `y = b (1 -
-    // |t / a|^ex)^(1 / ey)` for the face y = +b, up to `t = a 2^(-1/ex)`. (Past the corner the
-    // graph turns down the next face, steeply: a patch's end searched there by two halvings
-    // and a secant landed a fifth of the face off.)
-    let [ex, ey] = shape.exponents();
-    let semi = shape.semi_axes();
-    let (own, e_own, e_off) = if across {
-        (semi.x, ex, ey)
-    } else {
-        (semi.y, ey, ex)
-    };
-    let half = own * 0.5f64.powf(1.0 / e_own);
-    let coord = |q: Vec2| {
-        let l = pose.to_local(q);
-        if across { l.x } else { l.y }
-    };
-    let on = |t: f64| -> Option<Vec2> {
-        let t = t.clamp(-half, half);
-        let rest = 1.0 - pow32(t / own, e_own);
-        let height = if rest > 0.0 {
-            pow32(rest, 1.0 / e_off)
+    let face = Face::new(shape, pose, out, clip, margin)?;
+    face.patch(
+        face.coord(deepest).clamp(face.lo, face.hi),
+        gap,
+        margin,
+        min_gap,
+    )
+}
+
+/// A flat grain's face whose outward normal is nearest a direction, as [`face_patch`] reads it:
+/// a coordinate along it and the shape's point over each coordinate, and the stretch `lo..hi`
+/// of it within the other grain's shadow.
+pub(super) struct Face<'a> {
+    pose: &'a Pose,
+    /// The face's middle in the grain's frame (the semi-axis along its normal).
+    middle: Vec2,
+    /// Whether the face is y = +-b (its coordinate x), or x = +-a (its coordinate y).
+    across: bool,
+    /// The semi-axis along the face, its exponent, the other exponent.
+    own: f64,
+    e_own: f64,
+    e_off: f64,
+    /// Where the face ends, at its corners.
+    pub(super) half: f64,
+    pub(super) lo: f64,
+    pub(super) hi: f64,
+}
+
+impl<'a> Face<'a> {
+    /// The face of `shape` whose outward normal is nearest `out` (world), within the shadow
+    /// of `clip` (its box's, grown by `margin`; `None` for a wall: the whole face). `None` when
+    /// that stretch is empty.
+    pub(super) fn new(
+        shape: &Superellipse,
+        pose: &'a Pose,
+        out: Vec2,
+        clip: Option<(&Superellipse, &Pose)>,
+        margin: f64,
+    ) -> Option<Self> {
+        let middle = out_point(shape, pose, out);
+        let across = middle.x == 0.0;
+        // The face runs to its corners, where both terms of `f` are 1/2 (the diagonal of a
+        // square superellipse): the face's coordinate `t` is the boundary's graph over it, `y =
+        // b (1 - |t / a|^ex)^(1 / ey)` for the face y = +b, up to `t = a 2^(-1/ex)`. (Past the
+        // corner the graph turns down the next face, steeply: a patch's end searched there by
+        // two halvings and a secant landed a fifth of the face off.)
+        let [ex, ey] = shape.exponents();
+        let semi = shape.semi_axes();
+        let (own, e_own, e_off) = if across {
+            (semi.x, ex, ey)
         } else {
-            0.0
+            (semi.y, ey, ex)
         };
-        let local = if across {
-            Vec2::new(t, normal.y * height)
-        } else {
-            Vec2::new(normal.x * height, t)
+        let half = own * pow32(0.5, 1.0 / e_own);
+        let mut face = Face {
+            pose,
+            middle,
+            across,
+            own,
+            e_own,
+            e_off,
+            half,
+            lo: -half,
+            hi: half,
         };
-        local.is_finite().then(|| pose.to_world(local))
-    };
-    let (lo, hi) = match clip {
-        Some((other, other_pose)) => {
-            // The face's direction in the other grain's frame, and its box's half-extent along it.
+        if let Some((other, other_pose)) = clip {
+            // The face's direction in the other grain's frame, and its box's half-extent along
+            // it (and the margin: a point of the face beyond the shadow is still within the
+            // margin of the other grain's corner).
             let way = if across {
                 Vec2::new(1.0, 0.0)
             } else {
@@ -541,60 +573,93 @@ fn face_patch(
                 .rotation()
                 .apply_inverse(pose.rotation().apply(way));
             let box_half = other.semi_axes();
-            // (And the margin: a point of the face beyond the shadow is still within the
-            // margin of the other grain's corner.)
             let extent = (way.x * box_half.x).abs() + (way.y * box_half.y).abs() + margin;
-            let centre = coord(other_pose.center());
-            ((centre - extent).max(-half), (centre + extent).min(half))
+            let centre = face.coord(other_pose.center());
+            face.lo = (centre - extent).max(-half);
+            face.hi = (centre + extent).min(half);
         }
-        None => (-half, half),
-    };
-    if hi - lo <= min_gap || (hi - lo).is_nan() {
-        return None;
+        (face.hi > face.lo).then_some(face)
     }
-    let from = coord(deepest).clamp(lo, hi);
-    let from_gap = gap(on(from)?);
-    if from_gap >= margin || from_gap.is_nan() {
-        return None;
+
+    /// The face's coordinate of a world point.
+    pub(super) fn coord(&self, q: Vec2) -> f64 {
+        let l = self.pose.to_local(q);
+        if self.across { l.x } else { l.y }
     }
-    let end = |t: f64| -> Option<f64> {
-        let g = gap(on(t)?);
-        if g < margin {
-            return Some(t);
+
+    /// The shape's boundary point over the coordinate `t` (world).
+    pub(super) fn on(&self, t: f64) -> Option<Vec2> {
+        let t = t.clamp(-self.half, self.half);
+        let rest = 1.0 - pow32(t / self.own, self.e_own);
+        let height = if rest > 0.0 {
+            pow32(rest, 1.0 / self.e_off)
+        } else {
+            0.0
+        };
+        let local = if self.across {
+            Vec2::new(t, self.middle.y * height)
+        } else {
+            Vec2::new(self.middle.x * height, t)
+        };
+        local.is_finite().then(|| self.pose.to_world(local))
+    }
+
+    /// The two side points of the patch about the coordinate `from` (in it), with their
+    /// separations by `gap` ([`face_patch`]).
+    pub(super) fn patch(
+        &self,
+        from: f64,
+        gap: impl Fn(Vec2) -> f64,
+        margin: f64,
+        min_gap: f64,
+    ) -> Option<[(Vec2, f64); 2]> {
+        let (lo, hi) = (self.lo, self.hi);
+        if hi - lo <= min_gap || (hi - lo).is_nan() {
+            return None;
         }
-        let value = |t: f64| on(t).map_or(f64::INFINITY, &gap);
-        Some(crossing(
-            (from, from_gap),
-            (t, g),
-            margin,
-            FACE_HALVINGS,
-            value,
-        ))
-    };
-    let (e1, e2) = (end(lo)?, end(hi)?);
-    if (on(e1)? - on(e2)?).norm() <= min_gap {
-        return None;
+        let from_gap = gap(self.on(from)?);
+        if from_gap >= margin || from_gap.is_nan() {
+            return None;
+        }
+        let end = |t: f64| -> Option<f64> {
+            let g = gap(self.on(t)?);
+            if g < margin {
+                return Some(t);
+            }
+            let value = |t: f64| self.on(t).map_or(f64::INFINITY, &gap);
+            Some(crossing(
+                (from, from_gap),
+                (t, g),
+                margin,
+                FACE_HALVINGS,
+                value,
+            ))
+        };
+        let (e1, e2) = (end(lo)?, end(hi)?);
+        if (self.on(e1)? - self.on(e2)?).norm() <= min_gap {
+            return None;
+        }
+        let (middle, reach) = (0.5 * (e1 + e2), 0.5 * SIDE * (e2 - e1));
+        let side = |t: f64| self.on(t).map(|q| (q, gap(q)));
+        let (first, second) = (side(middle - reach)?, side(middle + reach)?);
+        // The coordinate runs with the polar angle on the faces x = +a and y = -b, against it
+        // on the other two.
+        let with_angle = if self.across {
+            self.middle.y < 0.0
+        } else {
+            self.middle.x > 0.0
+        };
+        Some(if with_angle {
+            [first, second]
+        } else {
+            [second, first]
+        })
     }
-    let (middle, reach) = (0.5 * (e1 + e2), 0.5 * SIDE * (e2 - e1));
-    let side = |t: f64| on(t).map(|q| (q, gap(q)));
-    let (first, second) = (side(middle - reach)?, side(middle + reach)?);
-    // The coordinate runs with the polar angle on the faces x = +a and y = -b, against it on
-    // the other two.
-    let with_angle = if across {
-        normal.y < 0.0
-    } else {
-        normal.x > 0.0
-    };
-    Some(if with_angle {
-        [first, second]
-    } else {
-        [second, first]
-    })
 }
 
 /// Ends closer than this (a fifth of the smaller grain's shorter semi-axis) make no second
 /// point: the region is a lens.
-fn min_gap(a: &Superellipse, b: &Superellipse) -> f64 {
+pub(super) fn min_gap(a: &Superellipse, b: &Superellipse) -> f64 {
     0.2 * a.min_semi_axis().min(b.min_semi_axis())
 }
 
@@ -603,10 +668,11 @@ const WALK_STEPS: u32 = 64;
 const BISECTIONS: u32 = 2;
 
 /// Halvings of a face's patch end search ([`face_patch`]) before its secant: the bracket from
-/// the deepest point to the face's end is a face long, where the walk's is a 64th of a turn,
-/// and the separation bends where the other grain's corner passes (two halvings put side
-/// points 0.008 off on a face 0.6 long; six, as the walk's bracket, within 0.001).
-const FACE_HALVINGS: u32 = 6;
+/// the deepest point to the face's end is up to a face long, where the walk's is a 64th of a
+/// turn, and the separation bends where the other grain's corner passes. Against dense
+/// sampling of a face 0.6 long (`a_flat_grains_patch_is_where_dense_sampling_of_its_face_puts_it`),
+/// two halvings put a side point 0.009 off, three 0.005, four within the test's 0.003.
+const FACE_HALVINGS: u32 = 4;
 
 /// Where the side points sit, from the middle of the patch to its ends.
 const SIDE: f64 = 0.8;

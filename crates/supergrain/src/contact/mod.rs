@@ -7,6 +7,7 @@
 mod boundary;
 mod certified;
 mod disk_disk;
+mod flat;
 pub mod manifold;
 mod narrow;
 mod push;

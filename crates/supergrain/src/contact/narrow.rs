@@ -3,6 +3,8 @@
 //! pair's shapes choose the rest (the analytic answer for two disks, the quadtree two levels
 //! deeper for a star, three for a wall).
 
+use super::flat::flat_pair;
+use super::manifold::Manifold;
 use super::{
     Contact, Penetration, WallContact, WallPenetration, WarmStart, contact_boundary,
     contact_quadtree, contact_quadtree_midpoints, contact_warm, contact_warm_midpoints, disk_disk,
@@ -80,6 +82,25 @@ impl Narrow {
             NarrowPhase::Quadtree => contact_quadtree(a, pa, b, pb, &self.pair_precision(a, b)),
             NarrowPhase::Analytic => analytic(a, pa, b, pb),
         }
+    }
+
+    /// Two flat grains (every exponent at least 8) by their faces, under the certified path:
+    /// `Some(None)` proven apart, `Some(Some(manifold))` proven overlapping, with the manifold
+    /// the soft step holds them by; `None` for any other pair or phase, or where the faces
+    /// prove nothing (then [`Narrow::pair`] and the manifold of its deepest points).
+    /// `contact/flat.rs`.
+    pub fn flat(
+        &self,
+        a: &Superellipse,
+        pa: &Pose,
+        b: &Superellipse,
+        pb: &Pose,
+        margin: f64,
+    ) -> Option<Option<Manifold>> {
+        if self.phase != NarrowPhase::Interval {
+            return None;
+        }
+        flat_pair(a, pa, b, pb, &self.pair_precision(a, b), margin)
     }
 
     /// Two grains' contact as the paper's projection reads it: the deepest points of the

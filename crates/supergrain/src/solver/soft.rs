@@ -439,7 +439,7 @@ pub fn step_or_stop(
             b.center += s.v * hs;
             b.angle += s.w * hs;
             s.shift = b.center - start[i].0;
-            s.turn = Rotation::new(b.angle - start[i].1);
+            s.turn = Rotation::small(b.angle - start[i].1);
         }
         // A moving wall's motion since the step's start, at its own velocity.
         let elapsed = hs * f64::from(substep + 1);
@@ -683,7 +683,7 @@ fn find_contacts(
         bodies
             .iter()
             .zip(&work.predicted)
-            .map(|(b, p)| Rotation::new(p.angle() - b.angle)),
+            .map(|(b, p)| Rotation::small(p.angle() - b.angle)),
     );
     let (predicted, turns, carried) = (&work.predicted, &work.turns, &work.carried);
     let reach = settings.soft.carry_reach;
@@ -706,6 +706,11 @@ fn find_contacts(
                 && let Some(m) = c.manifold(&a.shape, pa, &b.shape, pb, reach)
             {
                 return Some((Some(m), warm, Some(*c)));
+            }
+            // Flat grains by their faces, where those prove the answer (no warm start kept:
+            // no Newton solve ran).
+            if let Some(m) = narrow.flat(&a.shape, pa, &b.shape, pb, PATCH_REACH) {
+                return Some((m, None, None));
             }
             let mut warm = warm;
             let c = narrow.pair(&a.shape, pa, &b.shape, pb, &mut warm);
