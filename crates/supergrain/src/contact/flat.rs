@@ -254,6 +254,8 @@ mod tests {
     use super::*;
     use crate::contact::contact;
     use crate::shape::support;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
 
     /// A block's corner pressed into a face, turned 10 to 45 degrees, and a block lying on a
     /// face tilted by 0.01 radians: the manifold's normal is the face's, and its deepest point
@@ -405,13 +407,8 @@ mod tests {
             Superellipse::new([0.4, 0.05], [12.0, 12.0]).unwrap(),
         ];
         let precision = Precision::default();
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let mut rnd = || rng.random::<f64>();
         let (mut answered, mut overlaps, mut aparts) = (0, 0, 0);
         for _ in 0..3000 {
             let a = shapes[(rnd() * 4.0) as usize % 4];
