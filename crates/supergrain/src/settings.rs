@@ -536,7 +536,7 @@ solver_keys! {
 }
 
 /// The keys only the soft step reads: not written for the paper's model.
-const SOFT_KEYS: &[&str] = &[
+pub const SOFT_KEYS: &[&str] = &[
     "sleep_islands",
     "substeps",
     "contact_hertz",

@@ -346,18 +346,8 @@ fn a_dumps_boundaries_are_checked_and_the_paper_model_refuses_them() {
     paper["solver"]["model"] = json!("paper");
     // The soft step's other parts out, so that the boundary is what is refused.
     let solver = paper["solver"].as_object_mut().unwrap();
-    for key in [
-        "sleep_islands",
-        "substeps",
-        "contact_hertz",
-        "damping_ratio",
-        "push_out",
-        "restitution_threshold",
-        "linear_damping",
-        "angular_damping",
-        "carry_reach",
-    ] {
-        solver.remove(key);
+    for key in supergrain::settings::SOFT_KEYS {
+        solver.remove(*key);
     }
     for key in ["materials", "wall_material", "contacts"] {
         paper.as_object_mut().unwrap().remove(key);

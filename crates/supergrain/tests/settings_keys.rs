@@ -292,18 +292,8 @@ fn a_dump_of_the_old_form_resumes_with_its_soft_table() {
     let world = World::new(&Scene::from_toml(&scene("model = \"soft\"")).unwrap());
     let mut d: serde_json::Value = serde_json::to_value(Dump::of(&world)).unwrap();
     let solver = d["solver"].as_object_mut().unwrap();
-    for key in [
-        "substeps",
-        "contact_hertz",
-        "damping_ratio",
-        "push_out",
-        "restitution_threshold",
-        "linear_damping",
-        "angular_damping",
-        "carry_reach",
-        "sleep_islands",
-    ] {
-        solver.remove(key);
+    for key in supergrain::settings::SOFT_KEYS {
+        solver.remove(*key);
     }
     solver.insert("slop".into(), serde_json::json!(0.005));
     solver.insert(

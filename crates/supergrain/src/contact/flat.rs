@@ -19,13 +19,14 @@
 //!   "apart". (Not for a thinner overlap, which that proof would also call apart: as on the
 //!   certified path, an overlap that can be proven is reported.)
 //! - **Overlapping**: the reference face within the other grain's shadow ([`Face`]), its point
-//!   deepest in the other grain (the least separation among the stretch's ends and the place
-//!   of the other grain's support point along the normal), proven inside both grains by interval enclosures
-//!   over a box of a few ulps, moved a hair into the reference grain, as the certified path's
-//!   points are. The manifold: the reference face's normal; the middle of the overlap there,
-//!   its depth along the normal (from the face's point back to the other grain's boundary, as
-//!   Box2D measures an incident point against the reference face); and when the patch is wide
-//!   its two side points ([`Face::patch`]), the middle then a margin shallower.
+//!   deepest in the other grain: over the other grain's support point along the normal, its
+//!   depth that point's below the face (as Box2D measures an incident point against the
+//!   reference face); or, where the face rises towards its middle, the deepest by a search
+//!   along it, if deeper. That point is proven inside both grains by interval enclosures over
+//!   a box of a few ulps, moved a hair into the reference grain, as the certified path's
+//!   points are. The manifold: the reference face's normal; the middle of the overlap there;
+//!   and when the patch is wide its two side points ([`Face::patch`]), the middle then a
+//!   margin shallower.
 //! - Anything else (a separation near zero the certificate cannot settle, no point proven
 //!   inside both) returns `None`, and the caller takes the certified path: an answer is
 //!   never less proven than that path's.
@@ -35,7 +36,7 @@ use super::certified::{proves_above, support_point_by, touch_level};
 use super::manifold::{Face, Manifold, flat, min_gap, separation32};
 use super::superellipse_superellipse::{frame, world_slack};
 use crate::geometry::Vec2;
-use crate::shape::{Pose, Superellipse, pow32};
+use crate::shape::{Pose, Superellipse, pow32, support_by};
 use crate::subdivision::Precision;
 
 /// Two flat grains' contact by their faces (module docs): `Some(None)` proven apart,
@@ -153,7 +154,11 @@ pub(crate) fn flat_pair(
     } else {
         (at_tip, under_tip)
     };
-    let deep = face.on(from)?;
+    let deep = if from == at_tip {
+        over_tip
+    } else {
+        face.on(from)?
+    };
     // Near the face's corner a corner pressed in is nearer the side face than the face it is
     // pressed into (two corners meeting), and it comes out sideways, not along the normal (the
     // face read it up to twice as deep as the certified pushes): the certified path answers.
@@ -220,26 +225,13 @@ fn best_axis(own: &Superellipse, other: &Superellipse, rel: &Pose) -> (f64, Vec2
         .into_iter()
         .map(|n| {
             let toward = rel.rotation().apply_inverse(-n);
-            let h = support32(other, toward);
+            // (An estimate with single precision's powers: it only chooses.)
+            let h = support_by(other.semi_axes(), other.exponents(), toward, pow32);
             (n.dot(c) - own_support(own, n) - h, n)
         })
         .fold((f64::NEG_INFINITY, Vec2::new(1.0, 0.0)), |best, x| {
             if x.0 > best.0 { x } else { best }
         })
-}
-
-/// A square grain's support function along `d` (its frame), Hölder's closed form with
-/// [`pow32`]'s powers: an estimate that only chooses the axis.
-fn support32(s: &Superellipse, d: Vec2) -> f64 {
-    let e = s.exponents()[0];
-    let semi = s.semi_axes();
-    let (a, b) = ((d.x * semi.x).abs(), (d.y * semi.y).abs());
-    let (big, small) = (a.max(b), a.min(b));
-    if big.is_nan() || big <= 0.0 {
-        return 0.0;
-    }
-    let q = e / (e - 1.0);
-    big * pow32(1.0 + pow32(small / big, q), 1.0 / q)
 }
 
 /// A grain's support along one of its own axes: the semi-axis (exactly: the grain lies in its

@@ -479,11 +479,11 @@ fn out_point(s: &Superellipse, pose: &Pose, n: Vec2) -> Vec2 {
 /// end searched from the deepest point only where the face there is farther than the margin
 /// ([`crossing`], on the face's coordinate). (Box2D clips one face of the other box against
 /// it; the other grain's face alone cut a corner's patch at the corner, where the walk went on
-/// along the corner's other face, and the heap of the tumbler sank twice as deep.) The side points
-/// sit [`SIDE`] of the way from the patch's middle to its ends, on the shape, ordered as
-/// [`patch`] orders them (by the polar angle). A face lying on a
-/// face costs five separations where the walk took some thirty (a quarter turn of a 64-step walk
-/// and the searches at its ends): the walks were a quarter of Box2D's tumbler's step.
+/// along the corner's other face, and the heap of the tumbler sank twice as deep.) The side
+/// points sit [`SIDE`] of the way from the patch's middle to its ends, on the shape, ordered
+/// as [`patch`] orders them (by the polar angle). A face lying on a face costs five
+/// separations where the walk took some thirty (a quarter turn of a 64-step walk and the
+/// searches at its ends): the walks were a quarter of Box2D's tumbler's step.
 #[allow(clippy::too_many_arguments)]
 fn face_patch(
     shape: &Superellipse,

@@ -12,7 +12,7 @@ pub use boundary::{ArcSpec, Boundary, BoundarySpec, CircleSpec, PlaneSpec, Shake
 pub use half_plane::HalfPlane;
 pub use pose::Pose;
 pub use superellipse::{EXPONENT_RANGE, SEMI_AXIS_RANGE, Superellipse};
-pub(crate) use superellipse::{abs_pow, pow32, support, support_dual};
+pub(crate) use superellipse::{abs_pow, pow32, support, support_by, support_dual};
 
 /// Why a shape, pose or wall could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

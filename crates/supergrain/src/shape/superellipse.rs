@@ -298,6 +298,17 @@ fn bounding_radius(semi_axes: Vec2, exponents: [f64; 2]) -> f64 {
 /// [`Superellipse::local_support`] for any semi-axes and exponents (finite and positive), with
 /// no shape built: the contact certificate asks it of grown copies of a shape.
 pub(crate) fn support(semi_axes: Vec2, exponents: [f64; 2], d: Vec2) -> f64 {
+    support_by(semi_axes, exponents, d, f64::powf) * BOUND_PAD
+}
+
+/// [`support`]'s closed form with the powers of `pow` and without its pad: an estimate (the
+/// flat grains' path takes [`pow32`]'s to choose an axis, where nothing rests on the bound).
+pub(crate) fn support_by(
+    semi_axes: Vec2,
+    exponents: [f64; 2],
+    d: Vec2,
+    pow: fn(f64, f64) -> f64,
+) -> f64 {
     let e = exponents[0].max(exponents[1]);
     let a = (d.x * semi_axes.x).abs();
     let b = (d.y * semi_axes.y).abs();
@@ -305,7 +316,7 @@ pub(crate) fn support(semi_axes: Vec2, exponents: [f64; 2], d: Vec2) -> f64 {
     if m == 0.0 {
         return 0.0;
     }
-    let s = if e <= 1.0 || a.min(b) == 0.0 {
+    if e <= 1.0 || a.min(b) == 0.0 {
         // Along an axis (the first shape's frame of every contact test asks for its box)
         // the support is the semi-axis, for any exponent.
         m
@@ -316,9 +327,8 @@ pub(crate) fn support(semi_axes: Vec2, exponents: [f64; 2], d: Vec2) -> f64 {
     } else {
         let q = e / (e - 1.0);
         // Normalise by the larger term so that huge q neither overflows nor underflows.
-        m * (1.0 + (a.min(b) / m).powf(q)).powf(1.0 / q)
-    };
-    s * BOUND_PAD
+        m * pow(1.0 + pow(a.min(b) / m, q), 1.0 / q)
+    }
 }
 
 /// `|t|^e` in plain floating point, without `powf` for the common exponents (paper IV-A).
